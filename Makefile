@@ -1,0 +1,35 @@
+# One-command entry points (see README "Quick start").
+#   make sim    install what is missing, build, run the simulated system
+#   make test   install what is missing, build, run every test, print "N passed, N failed"
+# Catkin and the ROS tools need Debian's /usr/bin/python3, not a pyenv shim that may shadow it.
+SHELL := /bin/bash
+ROOT  := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+WS    := $(ROOT)/catkin_ws
+JOBS  ?= $(shell nproc)
+BUILD_TYPE ?= Release
+ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH PYTHONHOME; source $(WS)/devel/setup.bash
+CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
+          -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
+
+.PHONY: all deps build sim test bench clean
+all: build
+
+deps:
+	@$(ROOT)/scripts/install_deps.sh
+
+build: deps
+	@$(CATKIN) > $(WS)/build.log 2>&1 || { tail -n 60 $(WS)/build.log; echo "build failed (full log: $(WS)/build.log)"; exit 1; }
+	@grep -E 'warning:' $(WS)/build.log | grep -v '^/usr/' || true
+	@echo "build ok (log: $(WS)/build.log)"
+
+sim: build
+	@$(ROSENV); roslaunch $(ROOT)/launch/sim.launch $(ARGS)
+
+test: build
+	@$(ROOT)/scripts/run_tests.sh $(WS) $(JOBS)
+
+bench: build
+	@$(ROSENV); $(ROOT)/scripts/run_benchmarks.sh $(WS)
+
+clean:
+	rm -rf $(WS)/build $(WS)/devel $(WS)/install $(WS)/build.log

@@ -1,0 +1,44 @@
+#!/usr/bin/python3
+"""Counts test cases in the JUnit XML files catkin writes (gtest, rostest, rosunit).
+
+catkin_test_results counts differently per file type (it adds up suite totals and failure
+elements), so the closing line is counted here from the <testcase> elements themselves.
+Prints "N passed, N failed, N skipped" and the names of failed cases.
+"""
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+root_dir = sys.argv[1]
+passed = failed = skipped = 0
+failures = []
+for dirpath, _, files in os.walk(root_dir):
+    for name in sorted(files):
+        if not name.endswith(".xml"):
+            continue
+        path = os.path.join(dirpath, name)
+        try:
+            tree = ET.parse(path)
+        except ET.ParseError as e:
+            failed += 1
+            failures.append("%s: unreadable result file (%s)" % (path, e))
+            continue
+        cases = list(tree.getroot().iter("testcase"))
+        if not cases:
+            # A rostest whose test node never ran leaves a file without test cases.
+            failed += 1
+            failures.append("%s: no test case ran" % os.path.relpath(path, root_dir))
+            continue
+        for case in cases:
+            label = "%s.%s" % (case.get("classname", "?"), case.get("name", "?"))
+            if case.find("failure") is not None or case.find("error") is not None:
+                failed += 1
+                failures.append("%s: %s" % (os.path.relpath(path, root_dir), label))
+            elif case.find("skipped") is not None or case.get("status") == "notrun":
+                skipped += 1
+            else:
+                passed += 1
+for f in failures:
+    print("FAILED " + f)
+print("%d passed, %d failed, %d skipped" % (passed, failed, skipped))
+sys.exit(1 if failed or passed == 0 else 0)

@@ -1,0 +1,93 @@
+// Checks the projector nodelet in a running system: latched pattern and camera_info, and that bad
+// parameters stop the node with a message naming the parameter.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+namespace
+{
+template <typename M>
+typename M::ConstPtr waitFor(const std::string& topic, double timeout)
+{
+  return ros::topic::waitForMessage<M>(topic, ros::Duration(timeout));
+}
+
+// Runs a command, returns its exit status and combined output.
+int run(const std::string& command, std::string& output)
+{
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe)
+    return -1;
+  std::array<char, 512> buf;
+  while (fgets(buf.data(), buf.size(), pipe))
+    output += buf.data();
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+}  // namespace
+
+TEST(ProjectorNodelet, PublishesLatchedPatternAndCameraInfo)
+{
+  // Subscribing late still gets the (latched) messages.
+  const auto image = waitFor<sensor_msgs::Image>("pattern", 60.0);
+  ASSERT_TRUE(image) << "no pattern";
+  EXPECT_EQ(image->encoding, "mono8");
+  EXPECT_EQ(image->width, 480u);
+  EXPECT_EQ(image->height, 320u);
+  EXPECT_EQ(image->step, 480u);
+  EXPECT_EQ(image->data.size(), 480u * 320u);
+  EXPECT_EQ(image->header.frame_id, "projector_optical_frame");
+  size_t lit = 0;
+  for (uint8_t v : image->data)
+    lit += v == 255;
+  EXPECT_EQ(lit, 16u * 64u * 33u);
+
+  const auto info = waitFor<sensor_msgs::CameraInfo>("camera_info", 30.0);
+  ASSERT_TRUE(info) << "no camera_info";
+  EXPECT_EQ(info->width, 480u);
+  EXPECT_EQ(info->height, 320u);
+  EXPECT_DOUBLE_EQ(info->K[0], 753.0);
+  EXPECT_DOUBLE_EQ(info->K[4], 781.0);
+  EXPECT_EQ(info->header.frame_id, "projector_optical_frame");
+}
+
+TEST(ProjectorNode, InvalidParameterFailsNamingIt)
+{
+  std::string out;
+  const int status = run("rosrun sl_projector projector_node __name:=bad_projector _columns:=100", out);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("~columns"), std::string::npos) << out;
+
+  out.clear();
+  const int status2 = run("rosrun sl_projector projector_node __name:=bad_projector2 _fx:=-3.0", out);
+  EXPECT_NE(status2, 0) << out;
+  EXPECT_NE(out.find("~fx"), std::string::npos) << out;
+}
+
+TEST(ProjectorNode, MissingDisplayAndBusAreReportedNotFatal)
+{
+  std::string out;
+  // The node keeps running after reporting; `timeout` ends it. Exit 124 means it was still alive.
+  const int status = run("timeout 15 rosrun sl_projector projector_node __name:=no_display_projector "
+                         "_show_window:=true _display:=:98765 _dlp_setup:=true _i2c_bus:=/dev/i2c-none "
+                         "pattern:=pattern_no_display camera_info:=info_no_display",
+                         out);
+  EXPECT_EQ(status, 124) << out;
+  EXPECT_NE(out.find("cannot open X display ':98765'"), std::string::npos) << out;
+  EXPECT_NE(out.find("/dev/i2c-none"), std::string::npos) << out;
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "projector_rostest");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}

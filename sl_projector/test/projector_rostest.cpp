@@ -53,8 +53,13 @@ TEST(ProjectorNodelet, PublishesLatchedPatternAndCameraInfo)
   ASSERT_TRUE(info) << "no camera_info";
   EXPECT_EQ(info->width, 480u);
   EXPECT_EQ(info->height, 320u);
+  // From the default rig file (see projector.test).
   EXPECT_DOUBLE_EQ(info->K[0], 753.0);
   EXPECT_DOUBLE_EQ(info->K[4], 781.0);
+  EXPECT_DOUBLE_EQ(info->K[2], 203.0);
+  EXPECT_DOUBLE_EQ(info->K[5], -38.0);
+  ASSERT_EQ(info->D.size(), 5u);
+  EXPECT_DOUBLE_EQ(info->D[0], 0.02);
   EXPECT_EQ(info->header.frame_id, "projector_optical_frame");
 }
 
@@ -64,6 +69,11 @@ TEST(ProjectorNode, InvalidParameterFailsNamingIt)
   const int status = run("rosrun sl_projector projector_node __name:=bad_projector _columns:=100", out);
   EXPECT_NE(status, 0) << out;
   EXPECT_NE(out.find("~columns"), std::string::npos) << out;
+
+  out.clear();
+  const int status3 = run("rosrun sl_projector projector_node __name:=bad_projector3 _calibration_file:=/no/such.yaml", out);
+  EXPECT_NE(status3, 0) << out;
+  EXPECT_NE(out.find("~calibration_file: /no/such.yaml: cannot open"), std::string::npos) << out;
 
   out.clear();
   const int status2 = run("rosrun sl_projector projector_node __name:=bad_projector2 _fx:=-3.0", out);

@@ -15,6 +15,7 @@
 #include "sl_projector/dlp_pico.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/projector_window.h"
+#include "sl_projector/rig.h"
 
 namespace sl_projector
 {
@@ -27,6 +28,8 @@ struct Params
   PatternConfig pattern;
   std::string frame_id = "projector_optical_frame";
   double fx = 753.0, fy = 781.0, cx = -1.0, cy = -1.0;  // cx, cy < 0: frame centre
+  std::vector<double> D = std::vector<double>(5, 0.0);
+  std::string calibration_file;
   bool show_window = false;
   std::string display;
   int window_x = 0, window_y = 0;
@@ -77,6 +80,26 @@ Params readParams(const ros::NodeHandle& pnh)
   p.fy = param(pnh, "fy", p.fy);
   p.cx = param(pnh, "cx", (c.projector_width - 1) / 2.0);
   p.cy = param(pnh, "cy", (c.projector_height - 1) / 2.0);
+  p.calibration_file = param(pnh, "calibration_file", p.calibration_file);
+  if (!p.calibration_file.empty())
+  {
+    // The rig file is the single source of the pattern and the projector intrinsics.
+    Rig rig;
+    try
+    {
+      rig = loadRig(p.calibration_file);
+    }
+    catch (const RigFileError& e)
+    {
+      throw std::invalid_argument(std::string("~calibration_file: ") + e.what());
+    }
+    c = rig.pattern;  // the pattern parameters above are ignored then
+    p.fx = rig.projector.fx;
+    p.fy = rig.projector.fy;
+    p.cx = rig.projector.cx;
+    p.cy = rig.projector.cy;
+    p.D.assign(rig.projector.dist.begin(), rig.projector.dist.end());
+  }
   if (!(p.fx > 0.0) || !std::isfinite(p.fx))
     throw std::invalid_argument("~fx must be a finite focal length > 0 px");
   if (!(p.fy > 0.0) || !std::isfinite(p.fy))
@@ -170,7 +193,7 @@ private:
     info.width = image.width;
     info.height = image.height;
     info.distortion_model = "plumb_bob";
-    info.D.assign(5, 0.0);
+    info.D = p.D;
     info.K = { p.fx, 0.0, p.cx, 0.0, p.fy, p.cy, 0.0, 0.0, 1.0 };
     info.R = { 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0 };
     info.P = { p.fx, 0.0, p.cx, 0.0, 0.0, p.fy, p.cy, 0.0, 0.0, 0.0, 1.0, 0.0 };

@@ -1,0 +1,199 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "sl_projector/rig.h"
+
+using namespace sl_projector;
+
+namespace
+{
+const std::string kDefaultRig = std::string(SL_PROJECTOR_CONFIG_DIR) + "/default_rig.yaml";
+
+std::string readFile(const std::string& path)
+{
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Replaces the first occurrence of @p from in @p text.
+std::string replaced(std::string text, const std::string& from, const std::string& to)
+{
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos)
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The error message of parsing @p text, or "" if it parses.
+std::string parseError(const std::string& text)
+{
+  try
+  {
+    parseRig(text, "test.yaml");
+  }
+  catch (const RigFileError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Rig, DefaultRigLoads)
+{
+  const Rig rig = loadRig(kDefaultRig);
+  EXPECT_EQ(rig.camera.width, 752);
+  EXPECT_EQ(rig.camera.height, 480);
+  EXPECT_DOUBLE_EQ(rig.camera.fx, 1492.0);
+  EXPECT_EQ(rig.projector.width, 480);
+  EXPECT_DOUBLE_EQ(rig.projector.fy, 781.0);
+  EXPECT_NEAR(rig.projector_pose.translation.norm(), 0.0568, 0.001);
+  EXPECT_NEAR(Eigen::AngleAxisd(rig.projector_pose.rotation).angle() * 180.0 / M_PI, 12.7, 0.05);
+  EXPECT_EQ(rig.pattern.rows, 16);
+  EXPECT_EQ(rig.pattern.projector_width, 480);
+  EXPECT_EQ(rig.mount.parent_frame, "platform_edge");
+  EXPECT_TRUE(rig.tables.linear.empty());
+}
+
+TEST(Rig, ProjectAndRayRoundTripWithDistortion)
+{
+  const Rig rig = loadRig(kDefaultRig);
+  for (const PinholeModel* m : { &rig.camera, &rig.projector })
+  {
+    for (double u = 0; u < m->width; u += m->width / 7.0)
+      for (double v = 0; v < m->height; v += m->height / 5.0)
+      {
+        const Eigen::Vector3d r = m->ray(Eigen::Vector2d(u, v));
+        const Eigen::Vector2d back = m->project(0.7 * r);
+        EXPECT_NEAR(back.x(), u, 1e-7);
+        EXPECT_NEAR(back.y(), v, 1e-7);
+      }
+  }
+  EXPECT_TRUE(std::isnan(rig.camera.project(Eigen::Vector3d(0.0, 0.0, -1.0)).x()));
+}
+
+TEST(Rig, TriangulationRecoversPoints)
+{
+  const Rig rig = loadRig(kDefaultRig);
+  const RigidTransform cam_to_proj = rig.projector_pose.inverse();
+  int checked = 0;
+  for (double z : { 0.45, 0.675, 0.95 })
+    for (int i = -3; i <= 3; ++i)
+      for (int j = -2; j <= 2; ++j)
+      {
+        const Eigen::Vector3d p(0.05 * i, 0.04 * j, z);
+        const Eigen::Vector2d cam = rig.camera.project(p);
+        const Eigen::Vector2d proj = rig.projector.project(cam_to_proj * p);
+        Eigen::Vector3d q;
+        double gap = 1.0;
+        ASSERT_TRUE(rig.triangulate(cam, proj, q, &gap));
+        EXPECT_LT((q - p).norm(), 1e-7);
+        EXPECT_LT(gap, 1e-7);
+        ++checked;
+      }
+  EXPECT_EQ(checked, 3 * 7 * 5);
+}
+
+// The mount and optics put the working window (331 x 173 mm from the floor up, centred on the
+// robot) inside the camera image and inside the projected pattern at 675 mm from the camera.
+TEST(Rig, DefaultRigCoversTheWorkingWindowAt675mm)
+{
+  const Rig rig = loadRig(kDefaultRig);
+  const RigidTransform optical = rig.mount.cameraOpticalInParent();
+  const RigidTransform edge_to_cam = optical.inverse();
+  const RigidTransform cam_to_proj = rig.projector_pose.inverse();
+  const Pattern pattern(rig.pattern);
+  const cv::Point2d first = pattern.primitiveCentroid(0, 0);
+  const cv::Point2d last = pattern.primitiveCentroid(rig.pattern.rows - 1, rig.pattern.cols - 1);
+  const double x_edge = 0.675 + rig.mount.xyz.x();  // 675 mm in front of the camera
+  for (double y : { -0.1655, 0.1655 })
+    for (double z : { 0.0, 0.173 })
+    {
+      const Eigen::Vector3d p_cam = edge_to_cam * Eigen::Vector3d(x_edge, y, z);
+      const Eigen::Vector2d px = rig.camera.project(p_cam);
+      EXPECT_TRUE(rig.camera.inImage(px)) << "window corner y=" << y << " z=" << z << " at pixel " << px.transpose();
+      const Eigen::Vector2d pp = rig.projector.project(cam_to_proj * p_cam);
+      EXPECT_GT(pp.x(), first.x) << y << " " << z;
+      EXPECT_LT(pp.x(), last.x) << y << " " << z;
+      EXPECT_GT(pp.y(), first.y) << y << " " << z;
+      EXPECT_LT(pp.y(), last.y) << y << " " << z;
+    }
+  // Optical axis: z_opt along the robot's x (slightly yawed), camera above the floor.
+  EXPECT_GT(optical.rotation.col(2).x(), 0.99);
+  EXPECT_NEAR(optical.translation.z(), 0.0865, 1e-12);
+}
+
+TEST(Rig, RoundTripsThroughYamlWithTables)
+{
+  Rig rig = loadRig(kDefaultRig);
+  const size_t cells = static_cast<size_t>(rig.pattern.rows * rig.pattern.cols);
+  rig.tables.distances = { 0.5, 0.6, 0.7 };
+  rig.tables.rational.resize(cells);
+  rig.tables.linear.resize(cells);
+  for (size_t i = 0; i < cells; i += 3)
+  {
+    rig.tables.rational[i] = DepthModel{ true, 1.0 + i, -0.001, 1e-4, 2e-4 };
+    rig.tables.linear[i] = DepthModel{ true, 2.0, -0.002 * i, 0.0, 1e-3 };
+  }
+  const Rig back = parseRig(rigToYaml(rig), "round trip");
+  EXPECT_EQ(back.camera.cx, rig.camera.cx);
+  EXPECT_EQ(back.camera.dist, rig.camera.dist);
+  EXPECT_TRUE(back.projector_pose.rotation.isApprox(rig.projector_pose.rotation, 1e-12));
+  EXPECT_EQ(back.mount.rpy, rig.mount.rpy);
+  ASSERT_EQ(back.tables.rational.size(), cells);
+  ASSERT_EQ(back.tables.linear.size(), cells);
+  EXPECT_EQ(back.tables.distances, rig.tables.distances);
+  for (size_t i = 0; i < cells; ++i)
+  {
+    ASSERT_EQ(back.tables.rational[i].valid, i % 3 == 0) << i;
+    if (i % 3 == 0)
+    {
+      EXPECT_DOUBLE_EQ(back.tables.rational[i].a, 1.0 + i);
+      EXPECT_DOUBLE_EQ(back.tables.rational[i].c, 1e-4);
+      EXPECT_DOUBLE_EQ(back.tables.linear[i].b, -0.002 * i);
+    }
+  }
+  EXPECT_NEAR(back.tables.rational[0].depth(100.0), (1.0 - 0.1) / (1.0 + 0.01), 1e-12);
+}
+
+TEST(Rig, BadFilesNameTheKey)
+{
+  const std::string good = readFile(kDefaultRig);
+  ASSERT_EQ(parseError(good), "");
+
+  EXPECT_NE(parseError(replaced(good, "  K: [1492.0", "  Kx: [1492.0")).find("camera.K: missing"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "[1492.0, 0.0, 372.0, 0.0, 1492.0, 243.0, 0.0, 0.0, 1.0]", "[1492.0, 0.0]"))
+                .find("camera.K: has 2 numbers, expected 9"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "rotation: [0.994001447", "rotation: [0.9")).find("projector_pose.rotation: is not orthonormal"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "translation: [0.05524", "translation: [55.24")).find("projector_pose.translation"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "width: 752", "width: wide")).find("camera.width: cannot read 'wide'"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "width: 752", "width: -752")).find("camera.width: must be > 0"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "format_version: 1", "format_version: 7")).find("format_version"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "cols: 64", "cols: 70")).find("pattern."), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "D: [0.02", "D: [.nan")).find("projector.D"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "pattern:", "patterns:")).find("pattern: missing"), std::string::npos);
+  EXPECT_NE(parseError("camera: [1, 2").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(parseError("").find("must be a mapping"), std::string::npos);
+  EXPECT_NE(parseError(good + "depth_tables:\n  linear: {a: [1, 2], b: [1, 2], rms: [0, 0]}\n")
+                .find("depth_tables.linear.a: has 2 numbers, expected 1024"),
+            std::string::npos);
+
+  try
+  {
+    loadRig("/nonexistent/rig.yaml");
+    FAIL();
+  }
+  catch (const RigFileError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/rig.yaml: cannot open"), std::string::npos);
+  }
+  EXPECT_THROW(saveRig(loadRig(kDefaultRig), "/nonexistent/dir/rig.yaml"), RigFileError);
+}

@@ -1,0 +1,92 @@
+#pragma once
+/// @file common.h
+/// @brief Types shared by the plane and the full (projector-camera) calibration (ROS-free).
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "sl_decoder/decoder.h"
+#include "sl_projector/rig.h"
+
+namespace sl_decoder
+{
+namespace calibration
+{
+
+/**
+ * @brief Thrown for input that cannot be calibrated (too few views or distances, a checkerboard
+ * not found, an unreadable file ...). what() says what is wrong and names the image or file.
+ */
+class CalibrationError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/**
+ * @brief A plane in the camera optical frame: the points p with normal.dot(p) == offset.
+ *
+ * The normal is a unit vector pointing away from the camera (offset > 0 for a plane in front).
+ */
+struct CalibrationPlane
+{
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit normal, camera frame
+  double offset = 1.0;                                ///< distance of the plane from the camera centre, m
+
+  /**
+   * @brief Point where the camera ray through @p ray (any direction with z > 0, camera frame) meets
+   * the plane.
+   * @return false if the ray is (nearly) parallel to the plane or meets it behind the camera.
+   */
+  bool intersect(const Eigen::Vector3d& ray, Eigen::Vector3d& point) const;
+};
+
+/**
+ * @brief One decoded primitive of one image: pattern (row, col) and its sub-pixel image position.
+ */
+struct PrimitiveSample
+{
+  int row = -1;    ///< pattern row
+  int col = -1;    ///< pattern column
+  double u = 0.0;  ///< image column, px (pixel centres at integers)
+  double v = 0.0;  ///< image row, px
+};
+
+/**
+ * @brief The decoded primitives of a decode result: every blob with a (row, col) and a 3D point
+ * (so it passed the decoder's depth range and confidence checks).
+ */
+std::vector<PrimitiveSample> decodedSamples(const DecodeResult& result);
+
+/**
+ * @brief Decoder settings for calibration images: the decoder's defaults with triangulation (the
+ * rig being calibrated may have no depth tables yet) and the given epipolar tolerance (px), which
+ * is wider than the default so that a rig file that is only roughly right still decodes.
+ */
+DecoderConfig calibrationDecoderConfig(double epipolar_tolerance = 3.0);
+
+/**
+ * @brief Reads an image file as 8-bit grey (colour is converted, 16-bit scaled to 8).
+ * @throws CalibrationError naming @p path if it cannot be read.
+ */
+cv::Mat readGreyImage(const std::string& path);
+
+/**
+ * @brief The image files of a folder (png, jpg, jpeg, pgm, ppm, pnm, bmp, tif, tiff; any case) in
+ * byte-wise order of their names, or @p path itself if it is a file.
+ * @throws CalibrationError if the path does not exist or a folder has no images.
+ */
+std::vector<std::string> listImages(const std::string& path);
+
+/// @brief Angle of the rotation @p a^T * @p b, rad.
+double rotationAngle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
+
+/// @brief Formats @p value with @p digits decimals.
+std::string fixed(double value, int digits);
+
+}  // namespace calibration
+}  // namespace sl_decoder

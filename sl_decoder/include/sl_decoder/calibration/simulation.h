@@ -1,0 +1,107 @@
+#pragma once
+/// @file simulation.h
+/// @brief Calibration in simulation: renders the calibration views with the sl_camera simulator
+/// (a wall at known distances, checkerboard views, calibration planes with a board) and measures a
+/// calibrated rig against the simulator's true rig (ROS-free).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "sl_camera/renderer.h"
+#include "sl_camera/scene.h"
+#include "sl_decoder/calibration/camera_calibration.h"
+#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_decoder/evaluation.h"
+
+namespace sl_decoder
+{
+namespace calibration
+{
+
+/// @brief The calibration scenes of the simulator (sl_camera/scenes/calib_*.yaml).
+struct SimScenes
+{
+  std::string wall;                      ///< calib_wall.yaml: the plane for the plane calibration
+  std::vector<std::string> boards;       ///< calib_board_*.yaml: checkerboard views for the camera
+  std::vector<std::string> planes;       ///< calib_plane_*.yaml: calibration planes (board + pattern)
+};
+
+/**
+ * @brief The calibration scenes in @p dir (default: the simulator's scenes directory), sorted.
+ * @throws CalibrationError if the wall or any plane scene is missing.
+ */
+SimScenes findSimScenes(const std::string& dir = "");
+
+/// @brief The board every calib_* scene uses: the checkerboard texture of its first board object.
+/// @throws CalibrationError if the scene has no checkerboard-textured plane.
+Board boardOfScene(const sl_camera::Scene& scene);
+
+/**
+ * @brief The pose of the robot's platform_edge in the world that puts the plane named "wall" of
+ * @p wall_scene at @p distance, as defined by @p options (reference and normal; the wall must face
+ * the robot along world -x, the robot looks along world +x).
+ * @throws CalibrationError if the scene has no such wall, or the normal is PlaneNormal::Camera.
+ */
+Eigen::Isometry3d platformEdgeForDistance(const sl_projector::Rig& rig, const sl_camera::Scene& wall_scene,
+                                          double distance, const PlaneCalibrationOptions& options);
+
+/// @brief @p scene with every texture removed (a board covered by a blank sheet).
+sl_camera::Scene withoutTextures(const sl_camera::Scene& scene);
+
+/**
+ * @brief Renders calibration images of a (true) rig.
+ *
+ * Pattern images use the simulator's default settings and the rig's pattern. Board images use the
+ * same settings with the room lights on (ambient `board_ambient`) and the projector showing black.
+ */
+class CalibrationSimulator
+{
+public:
+  /// @param rig the true rig. @param settings image formation. @param board_ambient ambient light of board images.
+  explicit CalibrationSimulator(const sl_projector::Rig& rig, const sl_camera::SimSettings& settings = sl_camera::SimSettings(),
+                                double board_ambient = 0.6);
+  ~CalibrationSimulator();
+
+  /// @brief Pattern image (and ground truth) of @p scene seen from the robot at @p platform_edge_in_world.
+  const sl_camera::RenderOutput& renderPattern(const sl_camera::Scene& scene, const Eigen::Isometry3d& platform_edge_in_world,
+                                               uint64_t seed);
+  /// @brief Board image (lights on, projector dark) of @p scene from the default robot pose.
+  const sl_camera::RenderOutput& renderBoard(const sl_camera::Scene& scene, uint64_t seed);
+  /// @brief The pattern image of the wall at @p distance (see platformEdgeForDistance()).
+  const sl_camera::RenderOutput& renderWall(const sl_camera::Scene& wall_scene, double distance,
+                                            const PlaneCalibrationOptions& options, uint64_t seed);
+
+  /// @brief The true rig.
+  const sl_projector::Rig& rig() const { return rig_; }
+
+private:
+  sl_projector::Rig rig_;
+  sl_camera::SimSettings settings_;
+  sl_camera::SimSettings board_settings_;
+  std::unique_ptr<sl_camera::Renderer> renderer_;
+  std::unique_ptr<sl_camera::Renderer> board_renderer_;
+  cv::Mat pattern_, dark_;
+  sl_camera::RenderOutput out_;
+};
+
+/// @brief Depth of two rigs compared on the same image (triangulation, primitives both decode).
+struct DepthAgreement
+{
+  int points = 0;         ///< primitives decoded by both
+  double mean_mm = 0.0;   ///< mean |z_a - z_b|, mm
+  double max_mm = 0.0;    ///< max |z_a - z_b|, mm
+  double mean_z = 0.0;    ///< mean depth of the points, m
+};
+
+/// @brief Decodes @p image with @p a and with @p b (triangulation) and compares the depths.
+DepthAgreement compareDepth(const sl_projector::Rig& a, const sl_projector::Rig& b, const cv::Mat& image);
+
+/// @brief Decodes a rendered frame with @p rig in @p mode and scores it against the ground truth.
+EvalStats evaluateRendered(const sl_projector::Rig& rig, DepthMode mode, const sl_camera::RenderOutput& truth);
+
+}  // namespace calibration
+}  // namespace sl_decoder

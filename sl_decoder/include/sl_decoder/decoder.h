@@ -1,0 +1,133 @@
+#pragma once
+/// @file decoder.h
+/// @brief The decoding pipeline: camera image to decoded primitives with 3D points (ROS-free).
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sl_decoder/blob.h"
+#include "sl_decoder/blob_detector.h"
+#include "sl_decoder/decoder_config.h"
+#include "sl_decoder/epipolar_index.h"
+#include "sl_decoder/shape_classifier.h"
+#include "sl_projector/pattern.h"
+#include "sl_projector/rig.h"
+
+namespace sl_decoder
+{
+
+/// @brief Wall-clock time of each stage of the last decode, ms.
+struct StageTimes
+{
+  double detect = 0.0;     ///< thresholding, labelling, filtering, centroids
+  double classify = 0.0;   ///< shape identification
+  double candidates = 0.0; ///< epipolar candidates per blob
+  double neighbours = 0.0; ///< neighbour search
+  double correspond = 0.0; ///< support, acceptance, validation
+  double depth = 0.0;      ///< 3D points
+  double total = 0.0;      ///< everything
+};
+
+/// @brief Everything one decode produces. Reused across frames (no allocation after warm-up).
+struct DecodeResult
+{
+  std::vector<Blob> blobs;  ///< every blob that passed the filters; decoded ones have row >= 0
+  int identified = 0;       ///< blobs whose shape was identified
+  int decoded = 0;          ///< blobs with a (row, col)
+  int valid = 0;            ///< blobs with a 3D point (and confidence >= min_confidence)
+  StageTimes times;         ///< per-stage timing
+};
+
+/**
+ * @brief Decodes camera images of the projected pattern.
+ *
+ * Pipeline (SYSTEM.md section 3, with the geometric additions):
+ *  1. local mean threshold and 8-connected labelling with speckle, band and size filters;
+ *  2. intensity-weighted sub-pixel centroid;
+ *  3. shape identification by NCC against the four templates, with a margin;
+ *  4. candidates: the primitives of that shape whose epipolar curve (calibrated rig, full
+ *     distortion) passes within the tolerance and whose depth is in range;
+ *  5. neighbours N, W, S, E: the nearest blob in a window around the pattern's local step;
+ *  6. correspondence: a candidate is supported by each neighbour that has the adjacent primitive
+ *     among its own candidates. Along the epipolar direction (usually the rows) candidates differ,
+ *     so support there discriminates; across it, support confirms the shape. A blob takes the
+ *     candidate that is the only one with the best support, if it has at least one confirming
+ *     neighbour and min_support in all (a unique candidate needs only the confirmation). Then
+ *     decoded neighbours that contradict each other, and primitives claimed twice, are undone.
+ *     This subsumes the prototype's full-word lookup and still decodes primitives with missing
+ *     neighbours (thin objects, depth edges) when the evidence leaves one candidate;
+ *  7. depth: ray-ray triangulation with the projector ray of the decoded primitive, or the
+ *     per-primitive rational or linear tables of a plane calibration.
+ *
+ * Confidence (0..1) is the mean of the shape margin (saturating at 0.3), the support (of 4) and
+ * the epipolar fit (1 at the curve, 0 at the tolerance).
+ */
+class Decoder
+{
+public:
+  /**
+   * @brief Prepares the decoder for a rig.
+   * @throws std::invalid_argument for an invalid config, or a depth mode whose tables the rig lacks.
+   */
+  Decoder(const sl_projector::Rig& rig, const DecoderConfig& config = DecoderConfig());
+  ~Decoder();
+
+  /// @brief Decodes a CV_8UC1 image of the rig's camera size into @p result.
+  /// @throws std::invalid_argument for another type or size.
+  void decode(const cv::Mat& image, DecodeResult& result);
+
+  /// @brief The configuration.
+  const DecoderConfig& config() const { return config_; }
+  /// @brief The rig.
+  const sl_projector::Rig& rig() const { return rig_; }
+  /// @brief The pattern.
+  const sl_projector::Pattern& pattern() const { return pattern_; }
+  /// @brief The precomputed geometry.
+  const EpipolarIndex& index() const { return *index_; }
+
+private:
+  struct Candidate
+  {
+    int32_t primitive;
+    float depth;      // camera z, m
+    float epipolar;   // px
+    uint8_t bits;     // consistent neighbours, bit d for Direction d
+  };
+
+  void findCandidates(DecodeResult& result);
+  void findNeighbours(DecodeResult& result);
+  void correspond(DecodeResult& result);
+  void computeDepth(DecodeResult& result);
+
+  sl_projector::Rig rig_;
+  DecoderConfig config_;
+  sl_projector::Pattern pattern_;
+  std::unique_ptr<EpipolarIndex> index_;
+  BlobDetector detector_;
+  ShapeClassifier classifier_;
+  // Per-frame work buffers.
+  std::vector<int32_t> cand_begin_;  // blobs + 1
+  std::vector<Candidate> cands_;
+  std::vector<int32_t> grid_start_, grid_items_, grid_fill_;
+  std::vector<int32_t> owner_;  // primitive -> blob, for duplicate detection
+  std::vector<int32_t> label_;  // blob -> primitive (working copy)
+  int grid_w_ = 0, grid_h_ = 0;
+  double grid_cell_ = 1.0;
+};
+
+/**
+ * @brief Converts an image to mono8 for the decoder.
+ * @param encoding ROS encoding name: mono8 is used as is; mono16 (scaled to the frame's maximum
+ *        when it is below 256 * 256, else by 1/256), rgb8, bgr8, rgba8, bgra8 are converted.
+ * @param[out] converted set to true when a conversion happened.
+ * @return the mono8 image (shares data for mono8).
+ * @throws std::invalid_argument naming the encoding when it is not supported.
+ */
+cv::Mat toMono8(const cv::Mat& image, const std::string& encoding, bool& converted);
+
+}  // namespace sl_decoder

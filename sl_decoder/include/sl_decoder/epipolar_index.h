@@ -1,0 +1,82 @@
+#pragma once
+/// @file epipolar_index.h
+/// @brief Which pattern primitives can appear at an image position: the epipolar constraint of the
+/// calibrated rig as a lookup table (ROS-free).
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sl_decoder/decoder_config.h"
+#include "sl_projector/pattern.h"
+#include "sl_projector/rig.h"
+
+namespace sl_decoder
+{
+
+/**
+ * @brief Precomputed geometry of a rig for decoding.
+ *
+ * For every primitive, the projector ray through its centroid is traced from min_depth to
+ * max_depth and projected into the camera with the full distortion model; the image blocks its
+ * curve passes near (within the epipolar tolerance) list the primitive. A blob then looks up its
+ * block and checks only those few primitives exactly. Also holds a camera ray map (undistortion
+ * without iteration at run time) and the pattern's average image steps at the nominal depth, which
+ * size the neighbour windows. Nothing here assumes a particular rig: resolution, distortion and the
+ * side of the projector all come from the calibration.
+ */
+class EpipolarIndex
+{
+public:
+  /// @brief Builds the tables. @throws std::invalid_argument if the pattern is never visible.
+  EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& config);
+
+  /// @brief Candidate primitive indices (row * cols + col) near pixel (u, v); a superset.
+  void candidates(float u, float v, const int32_t*& begin, const int32_t*& end) const
+  {
+    int bx = static_cast<int>(u + 0.5f) >> kBlockShift;
+    int by = static_cast<int>(v + 0.5f) >> kBlockShift;
+    bx = bx < 0 ? 0 : (bx >= blocks_x_ ? blocks_x_ - 1 : bx);
+    by = by < 0 ? 0 : (by >= blocks_y_ ? blocks_y_ - 1 : by);
+    const size_t b = static_cast<size_t>(by * blocks_x_ + bx);
+    begin = entries_.data() + block_start_[b];
+    end = entries_.data() + block_start_[b + 1];
+  }
+
+  /// @brief Undistorted ray (x/z, y/z, 1) of camera pixel (u, v), bilinear in a fine table.
+  Eigen::Vector3d cameraRay(double u, double v) const;
+
+  /// @brief Origin of every projector ray (the projector centre), camera frame, m.
+  const Eigen::Vector3d& projectorOrigin() const { return projector_origin_; }
+  /// @brief Unit direction of the projector ray of primitive @p index, camera frame.
+  const Eigen::Vector3d& projectorDirection(int index) const { return directions_[static_cast<size_t>(index)]; }
+
+  /// @brief Average image displacement from a primitive to its east neighbour at the nominal depth, px.
+  const Eigen::Vector2d& stepEast() const { return step_east_; }
+  /// @brief Average image displacement from a primitive to its south neighbour at the nominal depth, px.
+  const Eigen::Vector2d& stepSouth() const { return step_south_; }
+  /// @brief True if epipolar curves run along pattern rows (candidates differ by column), false if
+  /// along columns.
+  bool epipolarAlongRows() const { return along_rows_; }
+
+  /// @brief Primitives whose curve enters the image at all.
+  int visiblePrimitives() const { return visible_; }
+
+private:
+  static constexpr int kBlockShift = 2;  // 4 px blocks
+  static constexpr int kRayStep = 4;     // ray table spacing, px
+
+  int blocks_x_ = 0, blocks_y_ = 0;
+  std::vector<int32_t> block_start_;  // CSR offsets, blocks + 1
+  std::vector<int32_t> entries_;
+  int ray_w_ = 0, ray_h_ = 0;
+  std::vector<Eigen::Vector2d> ray_table_;  // undistorted normalised coordinates on a kRayStep grid
+  Eigen::Vector3d projector_origin_;
+  std::vector<Eigen::Vector3d> directions_;
+  Eigen::Vector2d step_east_, step_south_;
+  bool along_rows_ = true;
+  int visible_ = 0;
+};
+
+}  // namespace sl_decoder

@@ -1,0 +1,44 @@
+#pragma once
+/// @file shape_classifier.h
+/// @brief Identifies which of the four primitive shapes a blob is (ROS-free).
+
+#include <array>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sl_decoder/blob.h"
+#include "sl_decoder/decoder_config.h"
+
+namespace sl_decoder
+{
+
+/**
+ * @brief Resamples a blob's bounding box to the template grid and correlates it (zero-mean NCC)
+ * with the four ideal shapes; the best one wins if it is clear enough.
+ *
+ * The templates are the shapes' area coverage of the grid, blurred a little, normalised to zero
+ * mean and unit norm once, so each blob costs one bilinear resampling and four dot products.
+ */
+class ShapeClassifier
+{
+public:
+  /// @brief Builds the templates for primitives of @p box_width x @p box_height projector px.
+  ShapeClassifier(const DecoderConfig& config = DecoderConfig(), int box_width = 5, int box_height = 9);
+
+  /**
+   * @brief Sets blob.shape (0 if unclear), blob.correlation and blob.margin.
+   * @param image the CV_8UC1 image the blob was found in.
+   */
+  void classify(const cv::Mat& image, Blob& blob);
+
+private:
+  DecoderConfig config_;
+  int tw_, th_;
+  std::array<std::vector<float>, 4> templates_;  // zero mean, unit norm
+  std::vector<float> samples_;
+  std::vector<int> ix_, iy_;      // sample grid: left/top source pixel
+  std::vector<float> ax_, ay_;    // and the interpolation weights
+};
+
+}  // namespace sl_decoder

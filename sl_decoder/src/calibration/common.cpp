@@ -1,0 +1,122 @@
+#include "sl_decoder/calibration/common.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <dirent.h>
+#include <sys/stat.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace sl_decoder
+{
+namespace calibration
+{
+
+bool CalibrationPlane::intersect(const Eigen::Vector3d& ray, Eigen::Vector3d& point) const
+{
+  const double denom = normal.dot(ray);
+  if (std::abs(denom) < 1e-9 * ray.norm())
+    return false;
+  const double s = offset / denom;
+  if (!(s > 0.0) || !std::isfinite(s))
+    return false;
+  point = s * ray;
+  return point.z() > 0.0;
+}
+
+std::vector<PrimitiveSample> decodedSamples(const DecodeResult& result)
+{
+  std::vector<PrimitiveSample> out;
+  out.reserve(static_cast<size_t>(result.valid));
+  for (const Blob& b : result.blobs)
+    if (b.decoded() && b.valid)
+      out.push_back(PrimitiveSample{ b.row, b.col, b.u, b.v });
+  return out;
+}
+
+DecoderConfig calibrationDecoderConfig(double epipolar_tolerance)
+{
+  DecoderConfig config;
+  config.depth_mode = DepthMode::Triangulation;
+  config.epipolar_tolerance = epipolar_tolerance;
+  config.validate();
+  return config;
+}
+
+cv::Mat readGreyImage(const std::string& path)
+{
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0)
+    throw CalibrationError(path + ": no such file");
+  cv::Mat image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  if (image.empty())
+    throw CalibrationError(path + ": cannot read the image (not an image file OpenCV reads?)");
+  if (image.channels() == 3)
+    cv::cvtColor(image, image, cv::COLOR_BGR2GRAY);
+  else if (image.channels() == 4)
+    cv::cvtColor(image, image, cv::COLOR_BGRA2GRAY);
+  if (image.depth() == CV_16U)
+    image.convertTo(image, CV_8U, 1.0 / 256.0);
+  else if (image.depth() != CV_8U)
+    throw CalibrationError(path + ": unsupported pixel type (need 8 or 16 bit)");
+  return image;
+}
+
+namespace
+{
+bool hasImageExtension(const std::string& name)
+{
+  const size_t dot = name.find_last_of('.');
+  if (dot == std::string::npos)
+    return false;
+  std::string ext = name.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  static const char* kExt[] = { "png", "jpg", "jpeg", "pgm", "ppm", "pnm", "bmp", "tif", "tiff" };
+  for (const char* e : kExt)
+    if (ext == e)
+      return true;
+  return false;
+}
+}  // namespace
+
+std::vector<std::string> listImages(const std::string& path)
+{
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0)
+    throw CalibrationError(path + ": no such file or folder");
+  if (!S_ISDIR(st.st_mode))
+    return { path };
+  std::vector<std::string> out;
+  DIR* d = opendir(path.c_str());
+  if (!d)
+    throw CalibrationError(path + ": cannot open the folder");
+  while (dirent* e = readdir(d))
+  {
+    const std::string name = e->d_name;
+    if (hasImageExtension(name))
+      out.push_back(path + (path.back() == '/' ? "" : "/") + name);
+  }
+  closedir(d);
+  std::sort(out.begin(), out.end());
+  if (out.empty())
+    throw CalibrationError(path + ": the folder has no images (png, jpg, pgm, bmp, tif ...)");
+  return out;
+}
+
+double rotationAngle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b)
+{
+  return Eigen::AngleAxisd(a.transpose() * b).angle();
+}
+
+std::string fixed(double value, int digits)
+{
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
+  return buffer;
+}
+
+}  // namespace calibration
+}  // namespace sl_decoder

@@ -1,0 +1,460 @@
+#include "sl_decoder/decoder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace sl_decoder
+{
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point& t)
+{
+  const Clock::time_point now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+  t = now;
+  return ms;
+}
+
+// Row and column steps of each direction.
+constexpr int kDRow[4] = { -1, 0, 1, 0 };
+constexpr int kDCol[4] = { 0, -1, 0, 1 };
+constexpr int kOpposite[4] = { kSouth, kEast, kNorth, kWest };
+
+int popcount4(uint8_t bits)
+{
+  return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
+}
+}  // namespace
+
+Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
+  : rig_(rig)
+  , config_(config)
+  , pattern_(rig.pattern)
+  , detector_(config)
+  , classifier_(config, rig.pattern.primitive_width, rig.pattern.primitive_height)
+{
+  config_.validate();
+  rig_.validate();
+  const size_t cells = static_cast<size_t>(rig.pattern.rows * rig.pattern.cols);
+  if (config_.depth_mode == DepthMode::Rational && rig_.tables.rational.size() != cells)
+    throw std::invalid_argument("depth_mode rational needs depth_tables.rational in the calibration file");
+  if (config_.depth_mode == DepthMode::Linear && rig_.tables.linear.size() != cells)
+    throw std::invalid_argument("depth_mode linear needs depth_tables.linear in the calibration file");
+  index_.reset(new EpipolarIndex(rig_, config_));
+  owner_.assign(cells, -1);
+  grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
+  grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
+  grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;
+}
+
+Decoder::~Decoder() = default;
+
+void Decoder::decode(const cv::Mat& image, DecodeResult& result)
+{
+  if (image.type() != CV_8UC1)
+    throw std::invalid_argument("decoder input must be mono8 (CV_8UC1)");
+  if (image.cols != rig_.camera.width || image.rows != rig_.camera.height)
+    throw std::invalid_argument("image is " + std::to_string(image.cols) + " x " + std::to_string(image.rows) +
+                                " but the calibration's camera is " + std::to_string(rig_.camera.width) + " x " +
+                                std::to_string(rig_.camera.height));
+  Clock::time_point start = Clock::now(), t = start;
+  result.identified = result.decoded = result.valid = 0;
+
+  detector_.detect(image, result.blobs);
+  result.times.detect = msSince(t);
+
+  for (Blob& b : result.blobs)
+  {
+    classifier_.classify(image, b);
+    result.identified += b.shape > 0;
+  }
+  result.times.classify = msSince(t);
+
+  findCandidates(result);
+  result.times.candidates = msSince(t);
+  findNeighbours(result);
+  result.times.neighbours = msSince(t);
+  correspond(result);
+  result.times.correspond = msSince(t);
+  computeDepth(result);
+  result.times.depth = msSince(t);
+  result.times.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void Decoder::findCandidates(DecodeResult& result)
+{
+  const int cols = rig_.pattern.cols;
+  const std::vector<int>& values = pattern_.array().values();
+  const Eigen::Vector3d& o = index_->projectorOrigin();
+  const double fx = rig_.camera.fx;
+  cand_begin_.resize(result.blobs.size() + 1);
+  cands_.clear();
+  for (size_t bi = 0; bi < result.blobs.size(); ++bi)
+  {
+    cand_begin_[bi] = static_cast<int32_t>(cands_.size());
+    const Blob& b = result.blobs[bi];
+    if (b.shape == 0)
+      continue;
+    const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);
+    const Eigen::Vector3d d1 = ray.normalized();
+    const double d1o = d1.dot(o);
+    const int32_t *it, *end;
+    index_->candidates(b.u, b.v, it, end);
+    for (; it != end; ++it)
+    {
+      const int32_t p = *it;
+      if (values[static_cast<size_t>(p)] != b.shape)
+        continue;
+      // Closest approach of the camera ray and the projector ray of primitive p.
+      const Eigen::Vector3d& d2 = index_->projectorDirection(p);
+      const double c = d1.dot(d2);
+      const double denom = 1.0 - c * c;
+      if (denom < 1e-12)
+        continue;
+      const double d2o = d2.dot(o);
+      const double s = (d1o - c * d2o) / denom;
+      const double u = (c * d1o - d2o) / denom;
+      const double z = s * d1.z();
+      if (z < config_.min_depth || z > config_.max_depth || u <= 0.0)
+        continue;
+      const double gap = (s * d1 - (o + u * d2)).norm();
+      const double epipolar_px = gap / z * fx;  // the gap seen from the camera, in pixels
+      if (epipolar_px > config_.epipolar_tolerance)
+        continue;
+      cands_.push_back(Candidate{ p, static_cast<float>(z), static_cast<float>(epipolar_px), 0 });
+    }
+    (void)cols;
+  }
+  cand_begin_[result.blobs.size()] = static_cast<int32_t>(cands_.size());
+}
+
+void Decoder::findNeighbours(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  const size_t cells = static_cast<size_t>(grid_w_ * grid_h_);
+  grid_start_.assign(cells + 1, 0);
+  auto cellOf = [&](const Blob& b) {
+    const int gx = std::min(grid_w_ - 1, std::max(0, static_cast<int>(b.u / grid_cell_)));
+    const int gy = std::min(grid_h_ - 1, std::max(0, static_cast<int>(b.v / grid_cell_)));
+    return static_cast<size_t>(gy * grid_w_ + gx);
+  };
+  // Counting sort of identified blobs into grid cells.
+  for (const Blob& b : blobs)
+    if (b.shape > 0)
+      ++grid_start_[cellOf(b) + 1];
+  for (size_t k = 0; k < cells; ++k)
+    grid_start_[k + 1] += grid_start_[k];
+  grid_items_.resize(static_cast<size_t>(grid_start_[cells]));
+  grid_fill_.assign(grid_start_.begin(), grid_start_.end() - 1);
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (blobs[i].shape > 0)
+      grid_items_[static_cast<size_t>(grid_fill_[cellOf(blobs[i])]++)] = static_cast<int32_t>(i);
+
+  // Each direction's window is a parallelogram around the expected position; only the grid cells
+  // under its bounding box are visited.
+  struct Window
+  {
+    float sx, sy;          // step, px
+    float ax, ay, cx, cy;  // unit along, unit across
+    float len, across;     // step length, length of the across step
+    float mid, hx, hy;     // window centre in steps, bounding-box half size, px
+  };
+  Window win[4];
+  const Eigen::Vector2d steps[4] = { -index_->stepSouth(), -index_->stepEast(), index_->stepSouth(),
+                                     index_->stepEast() };
+  const double across_len[4] = { index_->stepEast().norm(), index_->stepSouth().norm(), index_->stepEast().norm(),
+                                 index_->stepSouth().norm() };
+  const float amin = static_cast<float>(config_.neighbour_along_min);
+  const float amax = static_cast<float>(config_.neighbour_along_max);
+  const float cmax = static_cast<float>(config_.neighbour_across);
+  for (int d = 0; d < 4; ++d)
+  {
+    Window& w = win[d];
+    w.sx = static_cast<float>(steps[d].x());
+    w.sy = static_cast<float>(steps[d].y());
+    w.len = static_cast<float>(steps[d].norm());
+    w.ax = w.sx / w.len;
+    w.ay = w.sy / w.len;
+    w.cx = -w.ay;
+    w.cy = w.ax;
+    w.across = static_cast<float>(across_len[d]);
+    w.mid = 0.5f * (amin + amax);
+    const float ea = 0.5f * (amax - amin) * w.len, ec = cmax * w.across;
+    w.hx = std::abs(w.ax) * ea + std::abs(w.cx) * ec;
+    w.hy = std::abs(w.ay) * ea + std::abs(w.cy) * ec;
+  }
+  const float inv_cell = static_cast<float>(1.0 / grid_cell_);
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    Blob& b = blobs[i];
+    for (int d = 0; d < 4; ++d)
+      b.neighbour[d] = -1;
+    if (b.shape == 0)
+      continue;
+    for (int d = 0; d < 4; ++d)
+    {
+      const Window& w = win[d];
+      const float mx = b.u + w.sx * w.mid, my = b.v + w.sy * w.mid;
+      const int gx0 = std::max(0, static_cast<int>((mx - w.hx) * inv_cell));
+      const int gx1 = std::min(grid_w_ - 1, static_cast<int>((mx + w.hx) * inv_cell));
+      const int gy0 = std::max(0, static_cast<int>((my - w.hy) * inv_cell));
+      const int gy1 = std::min(grid_h_ - 1, static_cast<int>((my + w.hy) * inv_cell));
+      float best = 1e30f;
+      int best_j = -1;
+      for (int gy = gy0; gy <= gy1; ++gy)
+        for (int gx = gx0; gx <= gx1; ++gx)
+        {
+          const size_t cell = static_cast<size_t>(gy * grid_w_ + gx);
+          for (int32_t k = grid_start_[cell]; k < grid_start_[cell + 1]; ++k)
+          {
+            const int32_t j = grid_items_[static_cast<size_t>(k)];
+            const Blob& n = blobs[static_cast<size_t>(j)];
+            const float dx = n.u - b.u, dy = n.v - b.v;
+            const float a = (dx * w.ax + dy * w.ay) / w.len;
+            const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
+            if (a < amin || a > amax || c > cmax)
+              continue;
+            const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
+            if (cost < best)
+            {
+              best = cost;
+              best_j = j;
+            }
+          }
+        }
+      b.neighbour[d] = best_j;
+    }
+  }
+}
+
+void Decoder::correspond(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
+  const bool along_rows = index_->epipolarAlongRows();
+  // Discriminating directions lie along the epipolar curves; the others confirm the shape.
+  const uint8_t discriminating = along_rows ? static_cast<uint8_t>((1 << kWest) | (1 << kEast))
+                                            : static_cast<uint8_t>((1 << kNorth) | (1 << kSouth));
+  const uint8_t confirming = static_cast<uint8_t>(0xF & ~discriminating);
+
+  auto hasCandidate = [&](int blob, int primitive) {
+    for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < cand_begin_[static_cast<size_t>(blob) + 1]; ++k)
+      if (cands_[static_cast<size_t>(k)].primitive == primitive)
+        return true;
+    return false;
+  };
+
+  label_.assign(blobs.size(), -1);
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    Blob& b = blobs[i];
+    b.row = b.col = -1;
+    b.support = 0;
+    const int32_t k0 = cand_begin_[i], k1 = cand_begin_[i + 1];
+    if (k0 == k1)
+      continue;
+    int best = -1, best_support = -1, ties = 0;
+    for (int32_t k = k0; k < k1; ++k)
+    {
+      Candidate& c = cands_[static_cast<size_t>(k)];
+      const int r = c.primitive / cols, col = c.primitive % cols;
+      c.bits = 0;
+      for (int d = 0; d < 4; ++d)
+      {
+        const int n = b.neighbour[d];
+        const int nr = r + kDRow[d], nc = col + kDCol[d];
+        if (n < 0 || nr < 0 || nc < 0 || nr >= rows || nc >= cols)
+          continue;
+        if (hasCandidate(n, nr * cols + nc))
+          c.bits |= static_cast<uint8_t>(1 << d);
+      }
+      const int support = popcount4(c.bits);
+      if (support > best_support)
+      {
+        best_support = support;
+        best = k;
+        ties = 0;
+      }
+      else if (support == best_support)
+        ++ties;
+    }
+    const Candidate& c = cands_[static_cast<size_t>(best)];
+    const bool unique = (k1 - k0) == 1;
+    const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
+    const int discr = popcount4(static_cast<uint8_t>(c.bits & discriminating));
+    if (ties > 0 || confirm < 1)
+      continue;
+    if (!unique && (discr < 1 || best_support < config_.min_support))
+      continue;
+    if (unique && best_support < std::min(config_.min_support, 2))
+      continue;
+    label_[i] = best;
+  }
+
+  // Validation: a decoded blob whose decoded neighbours mostly contradict it is undone.
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    if (label_[i] < 0)
+      continue;
+    const int p = cands_[static_cast<size_t>(label_[i])].primitive;
+    const int r = p / cols, col = p % cols;
+    int agree = 0, disagree = 0;
+    for (int d = 0; d < 4; ++d)
+    {
+      const int n = blobs[i].neighbour[d];
+      if (n < 0 || label_[static_cast<size_t>(n)] < 0)
+        continue;
+      const int q = cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive;
+      if (q / cols == r + kDRow[d] && q % cols == col + kDCol[d])
+        ++agree;
+      else
+        ++disagree;
+    }
+    if (disagree > 0 && disagree >= agree)
+      blobs[i].support = -1;  // mark; applied below so the check is order independent
+  }
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (blobs[i].support < 0)
+    {
+      label_[i] = -1;
+      blobs[i].support = 0;
+    }
+
+  // A primitive claimed by two blobs is trusted for neither.
+  std::vector<int32_t>& owner = owner_;
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (label_[i] >= 0)
+    {
+      int32_t& o = owner[static_cast<size_t>(cands_[static_cast<size_t>(label_[i])].primitive)];
+      o = (o == -1) ? static_cast<int32_t>(i) : -2;
+    }
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    if (label_[i] < 0)
+      continue;
+    const Candidate& c = cands_[static_cast<size_t>(label_[i])];
+    int32_t& o = owner[static_cast<size_t>(c.primitive)];
+    if (o == -2)
+    {
+      label_[i] = -1;
+      continue;
+    }
+    Blob& b = blobs[i];
+    b.row = c.primitive / cols;
+    b.col = c.primitive % cols;
+    b.support = popcount4(c.bits);
+    b.epipolar_error = c.epipolar;
+    ++result.decoded;
+  }
+  // Reset the owner table for the next frame (touching only what was set).
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (cand_begin_[i] < cand_begin_[i + 1])
+      for (int32_t k = cand_begin_[i]; k < cand_begin_[i + 1]; ++k)
+        owner[static_cast<size_t>(cands_[static_cast<size_t>(k)].primitive)] = -1;
+  (void)kOpposite;
+}
+
+void Decoder::computeDepth(DecodeResult& result)
+{
+  const int cols = rig_.pattern.cols;
+  const Eigen::Vector3d& o = index_->projectorOrigin();
+  for (size_t i = 0; i < result.blobs.size(); ++i)
+  {
+    Blob& b = result.blobs[i];
+    b.valid = false;
+    if (!b.decoded())
+      continue;
+    const int p = b.row * cols + b.col;
+    const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);  // z = 1
+    double z = std::numeric_limits<double>::quiet_NaN();
+    switch (config_.depth_mode)
+    {
+      case DepthMode::Triangulation:
+      {
+        const Eigen::Vector3d d1 = ray.normalized();
+        const Eigen::Vector3d& d2 = index_->projectorDirection(p);
+        const double c = d1.dot(d2);
+        const double s = (d1.dot(o) - c * d2.dot(o)) / (1.0 - c * c);
+        z = s * d1.z();
+        break;
+      }
+      case DepthMode::Rational:
+      {
+        const sl_projector::DepthModel& m = rig_.tables.rational[static_cast<size_t>(p)];
+        if (m.valid)
+          z = m.depth(b.u);
+        break;
+      }
+      case DepthMode::Linear:
+      {
+        const sl_projector::DepthModel& m = rig_.tables.linear[static_cast<size_t>(p)];
+        if (m.valid)
+          z = m.depth(b.u);
+        break;
+      }
+    }
+    if (!std::isfinite(z) || z < config_.min_depth || z > config_.max_depth)
+      continue;
+    const float shape_term = std::min(1.f, b.margin / 0.3f);
+    const float support_term = static_cast<float>(b.support) / 4.f;
+    const float epipolar_term =
+        std::max(0.f, 1.f - b.epipolar_error / static_cast<float>(config_.epipolar_tolerance));
+    b.confidence = (shape_term + support_term + epipolar_term) / 3.f;
+    if (b.confidence < config_.min_confidence)
+      continue;
+    b.x = static_cast<float>(ray.x() * z);
+    b.y = static_cast<float>(ray.y() * z);
+    b.z = static_cast<float>(z);
+    b.valid = true;
+    ++result.valid;
+  }
+}
+
+cv::Mat toMono8(const cv::Mat& image, const std::string& encoding, bool& converted)
+{
+  converted = false;
+  if (encoding == "mono8" || encoding == "8UC1")
+  {
+    if (image.type() != CV_8UC1)
+      throw std::invalid_argument("image claims " + encoding + " but is not 8-bit single channel");
+    return image;
+  }
+  converted = true;
+  cv::Mat out;
+  if (encoding == "mono16" || encoding == "16UC1")
+  {
+    if (image.type() != CV_16UC1)
+      throw std::invalid_argument("image claims " + encoding + " but is not 16-bit single channel");
+    double max_value = 0.0;
+    cv::minMaxLoc(image, nullptr, &max_value);
+    // 10- and 12-bit sensors fill only part of the 16 bits: scale the frame's range to 8 bits.
+    image.convertTo(out, CV_8U, 255.0 / std::max(1.0, max_value));
+    return out;
+  }
+  if (encoding == "rgb8" || encoding == "bgr8")
+  {
+    if (image.type() != CV_8UC3)
+      throw std::invalid_argument("image claims " + encoding + " but is not 8-bit three-channel");
+    cv::cvtColor(image, out, encoding == "rgb8" ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
+    return out;
+  }
+  if (encoding == "rgba8" || encoding == "bgra8")
+  {
+    if (image.type() != CV_8UC4)
+      throw std::invalid_argument("image claims " + encoding + " but is not 8-bit four-channel");
+    cv::cvtColor(image, out, encoding == "rgba8" ? cv::COLOR_RGBA2GRAY : cv::COLOR_BGRA2GRAY);
+    return out;
+  }
+  throw std::invalid_argument("unsupported image encoding '" + encoding +
+                              "' (use mono8; mono16, rgb8, bgr8, rgba8 and bgra8 are converted)");
+}
+
+}  // namespace sl_decoder

@@ -1,0 +1,224 @@
+#include "sl_decoder/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <dirent.h>
+#include <stdexcept>
+
+namespace sl_decoder
+{
+
+void EvalStats::add(const EvalStats& o)
+{
+  frames += o.frames;
+  visible += o.visible;
+  identified += o.identified;
+  decoded += o.decoded;
+  valid += o.valid;
+  wrong += o.wrong;
+  unverifiable += o.unverifiable;
+  near_points += o.near_points;
+  sum_abs_error += o.sum_abs_error;
+  max_abs_error = std::max(max_abs_error, o.max_abs_error);
+  with_depth += o.with_depth;
+}
+
+namespace
+{
+/// The primitive whose box (grown by @p margin px) contains projector pixel (x, y), or -1.
+int primitiveAt(const sl_projector::Pattern& pattern, float x, float y, double margin)
+{
+  const sl_projector::PatternConfig& c = pattern.config();
+  double px = x, py = y;
+  if (c.flip_x)
+    px = (c.projector_width - 1) - px;
+  if (c.flip_y)
+    py = (c.projector_height - 1) - py;
+  // Box of (r, col) spans [origin - 0.5, origin + size - 0.5] in pixel-centre coordinates.
+  const double fx = (px + 0.5 - c.offset_x - c.gap_x / 2) / c.cellWidth();
+  const double fy = (py + 0.5 - c.offset_y - c.gap_y / 2) / c.cellHeight();
+  const int col = static_cast<int>(std::floor(fx + margin / c.cellWidth()));
+  const int row = static_cast<int>(std::floor(fy + margin / c.cellHeight()));
+  if (row < 0 || col < 0 || row >= c.rows || col >= c.cols)
+    return -1;
+  const cv::Point o = pattern.primitiveOrigin(row, col);
+  if (px < o.x - 0.5 - margin || px > o.x + c.primitive_width - 0.5 + margin || py < o.y - 0.5 - margin ||
+      py > o.y + c.primitive_height - 0.5 + margin)
+    return -1;
+  return row * c.cols + col;
+}
+}  // namespace
+
+EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::RenderOutput& truth,
+                        const DecodeResult& result)
+{
+  EvalStats s;
+  s.frames = 1;
+  const int cols = pattern.config().cols;
+  const int cells = pattern.config().rows * cols;
+  std::vector<int> lit(static_cast<size_t>(cells), 0);
+  const cv::Mat& pc = truth.projector_coords;
+  for (int y = 0; y < pc.rows; ++y)
+  {
+    const cv::Vec2f* row = pc.ptr<cv::Vec2f>(y);
+    for (int x = 0; x < pc.cols; ++x)
+    {
+      if (std::isnan(row[x][0]))
+        continue;
+      const int p = primitiveAt(pattern, row[x][0], row[x][1], 0.0);
+      if (p >= 0)
+        ++lit[static_cast<size_t>(p)];
+    }
+  }
+  std::vector<int> counts;
+  for (int n : lit)
+    if (n > 0)
+      counts.push_back(n);
+  if (!counts.empty())
+  {
+    std::nth_element(counts.begin(), counts.begin() + static_cast<long>(counts.size() / 2), counts.end());
+    const int median = counts[counts.size() / 2];
+    for (int n : lit)
+      s.visible += 2 * n >= median;
+  }
+
+  s.identified = result.identified;
+  s.decoded = result.decoded;
+  // Background depth: the far end of the scene in this frame.
+  std::vector<float> depths;
+  for (const Blob& b : result.blobs)
+  {
+    if (!b.valid)
+      continue;
+    const int u = static_cast<int>(std::lround(b.u)), v = static_cast<int>(std::lround(b.v));
+    if (u >= 0 && v >= 0 && u < truth.depth.cols && v < truth.depth.rows && std::isfinite(truth.depth.at<float>(v, u)))
+      depths.push_back(truth.depth.at<float>(v, u));
+  }
+  float background = 0.f;
+  if (!depths.empty())
+  {
+    std::sort(depths.begin(), depths.end());
+    background = depths[std::min(depths.size() - 1, depths.size() * 9 / 10)];
+  }
+
+  for (const Blob& b : result.blobs)
+  {
+    if (!b.valid)
+      continue;
+    ++s.valid;
+    // Correspondence check around the centroid.
+    const int target = b.row * cols + b.col;
+    bool lit_near = false, match = false;
+    for (int dy = -1; dy <= 1 && !match; ++dy)
+      for (int dx = -1; dx <= 1 && !match; ++dx)
+      {
+        const int u = static_cast<int>(std::lround(b.u + 1.5f * dx)), v = static_cast<int>(std::lround(b.v + 1.5f * dy));
+        if (u < 0 || v < 0 || u >= pc.cols || v >= pc.rows)
+          continue;
+        const cv::Vec2f q = pc.at<cv::Vec2f>(v, u);
+        if (std::isnan(q[0]))
+          continue;
+        lit_near = true;
+        match = primitiveAt(pattern, q[0], q[1], 1.0) == target;
+      }
+    if (!lit_near)
+      ++s.unverifiable;
+    else if (!match)
+      ++s.wrong;
+
+    // Depth error: bilinear ground truth when the four pixels agree, else the nearest pixel.
+    const int u0 = static_cast<int>(std::floor(b.u)), v0 = static_cast<int>(std::floor(b.v));
+    if (u0 < 0 || v0 < 0 || u0 + 1 >= truth.depth.cols || v0 + 1 >= truth.depth.rows)
+      continue;
+    const float d00 = truth.depth.at<float>(v0, u0), d10 = truth.depth.at<float>(v0, u0 + 1);
+    const float d01 = truth.depth.at<float>(v0 + 1, u0), d11 = truth.depth.at<float>(v0 + 1, u0 + 1);
+    float z_true;
+    const float lo = std::min(std::min(d00, d10), std::min(d01, d11));
+    const float hi = std::max(std::max(d00, d10), std::max(d01, d11));
+    if (std::isfinite(lo) && std::isfinite(hi) && hi - lo < 0.005f)
+    {
+      const float ax = b.u - static_cast<float>(u0), ay = b.v - static_cast<float>(v0);
+      z_true = (1 - ay) * ((1 - ax) * d00 + ax * d10) + ay * ((1 - ax) * d01 + ax * d11);
+    }
+    else
+      z_true = truth.depth.at<float>(static_cast<int>(std::lround(b.v)), static_cast<int>(std::lround(b.u)));
+    if (!std::isfinite(z_true))
+      continue;
+    const double error = std::abs(static_cast<double>(b.z) - z_true);
+    s.sum_abs_error += error;
+    s.max_abs_error = std::max(s.max_abs_error, error);
+    ++s.with_depth;
+    if (z_true < background - 0.015f)
+      ++s.near_points;
+  }
+  return s;
+}
+
+SceneReport evaluateScene(const sl_projector::Rig& rig, const std::string& scene_path, const DecoderConfig& config,
+                          int frames, const sl_camera::SimSettings& settings)
+{
+  SceneReport report;
+  const size_t slash = scene_path.find_last_of('/');
+  std::string stem = slash == std::string::npos ? scene_path : scene_path.substr(slash + 1);
+  if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".yaml") == 0)
+    stem.resize(stem.size() - 5);
+  report.scene = stem;
+  report.model = depthModeName(config.depth_mode);
+  const sl_camera::Scene scene = sl_camera::loadScene(scene_path);
+  sl_camera::Renderer renderer(rig, settings);
+  Decoder decoder(rig, config);
+  const cv::Mat pattern = decoder.pattern().render();
+  const Eigen::Isometry3d camera = sl_camera::cameraPoseInWorld(rig);
+  sl_camera::RenderOutput truth;
+  DecodeResult result;
+  for (int f = 0; f < frames; ++f)
+  {
+    renderer.render(scene, pattern, camera, static_cast<uint64_t>(1000 + f), truth);
+    decoder.decode(truth.image, result);
+    report.stats.add(evaluateFrame(decoder.pattern(), truth, result));
+  }
+  return report;
+}
+
+std::string defaultScenesDir()
+{
+  return SL_CAMERA_SCENES_DIR;
+}
+
+std::string defaultRigFile()
+{
+  return std::string(SL_PROJECTOR_CONFIG_DIR) + "/default_rig.yaml";
+}
+
+}  // namespace sl_decoder
+
+namespace sl_decoder
+{
+std::string findScene(const std::vector<std::string>& parts)
+{
+  const std::string dir = defaultScenesDir();
+  DIR* d = opendir(dir.c_str());
+  if (!d)
+    throw std::runtime_error("cannot open the scenes directory " + dir);
+  std::string found;
+  while (dirent* e = readdir(d))
+  {
+    const std::string name = e->d_name;
+    bool all = name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0 && !parts.empty() &&
+               name.rfind(parts[0], 0) == 0;
+    for (const std::string& p : parts)
+      all = all && name.find(p) != std::string::npos;
+    if (all && (found.empty() || name < found))
+      found = name;
+  }
+  closedir(d);
+  if (found.empty())
+  {
+    std::string what;
+    for (const std::string& p : parts)
+      what += " '" + p + "'";
+    throw std::runtime_error("no scene file with" + what + " in its name in " + dir);
+  }
+  return dir + "/" + found;
+}
+}  // namespace sl_decoder

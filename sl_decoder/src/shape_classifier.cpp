@@ -1,0 +1,151 @@
+#include "sl_decoder/shape_classifier.h"
+
+#include <cmath>
+
+#include "sl_projector/primitives.h"
+
+namespace sl_decoder
+{
+
+namespace
+{
+void normalise(std::vector<float>& v)
+{
+  double mean = 0.0;
+  for (float x : v)
+    mean += x;
+  mean /= static_cast<double>(v.size());
+  double norm = 0.0;
+  for (float& x : v)
+  {
+    x = static_cast<float>(x - mean);
+    norm += static_cast<double>(x) * x;
+  }
+  const float inv = norm > 0.0 ? static_cast<float>(1.0 / std::sqrt(norm)) : 0.f;
+  for (float& x : v)
+    x *= inv;
+}
+}  // namespace
+
+ShapeClassifier::ShapeClassifier(const DecoderConfig& config, int box_width, int box_height)
+  : config_(config), tw_(config.template_width), th_(config.template_height)
+{
+  for (int s = 1; s <= 4; ++s)
+  {
+    const cv::Mat t = sl_projector::shapeTemplate(s, tw_, th_, config.template_sigma, box_width, box_height);
+    std::vector<float>& v = templates_[static_cast<size_t>(s - 1)];
+    v.assign(t.begin<float>(), t.end<float>());
+    normalise(v);
+  }
+  samples_.resize(static_cast<size_t>(tw_ * th_));
+}
+
+void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
+{
+  // Sample the box edge to edge: the shape spans [x0 - 0.5, x1 - 0.5] in pixel coordinates.
+  const float sx = static_cast<float>(blob.width()) / static_cast<float>(tw_);
+  const float sy = static_cast<float>(blob.height()) / static_cast<float>(th_);
+  const float ox = static_cast<float>(blob.x0) - 0.5f + 0.5f * sx;
+  const float oy = static_cast<float>(blob.y0) - 0.5f + 0.5f * sy;
+  const int wmax = image.cols - 1, hmax = image.rows - 1;
+  ix_.resize(static_cast<size_t>(tw_));
+  ax_.resize(static_cast<size_t>(tw_));
+  iy_.resize(static_cast<size_t>(th_));
+  ay_.resize(static_cast<size_t>(th_));
+  // Source pixels and weights per grid column and row, clamped at the image border once.
+  for (int i = 0; i < tw_; ++i)
+  {
+    const float fx = std::min(std::max(ox + static_cast<float>(i) * sx, 0.f), static_cast<float>(wmax));
+    const int x = std::min(static_cast<int>(fx), std::max(0, wmax - 1));
+    ix_[static_cast<size_t>(i)] = x;
+    ax_[static_cast<size_t>(i)] = std::min(1.f, fx - static_cast<float>(x));
+  }
+  for (int j = 0; j < th_; ++j)
+  {
+    const float fy = std::min(std::max(oy + static_cast<float>(j) * sy, 0.f), static_cast<float>(hmax));
+    const int y = std::min(static_cast<int>(fy), std::max(0, hmax - 1));
+    iy_[static_cast<size_t>(j)] = y;
+    ay_[static_cast<size_t>(j)] = std::min(1.f, fy - static_cast<float>(y));
+  }
+  const int x_step = wmax > 0 ? 1 : 0;
+  const size_t row_step = hmax > 0 ? image.step[0] : 0;
+  float* out = samples_.data();
+  for (int j = 0; j < th_; ++j)
+  {
+    const uint8_t* r0 = image.ptr<uint8_t>(iy_[static_cast<size_t>(j)]);
+    const uint8_t* r1 = r0 + row_step;
+    const float ay = ay_[static_cast<size_t>(j)];
+    for (int i = 0; i < tw_; ++i)
+    {
+      const int x = ix_[static_cast<size_t>(i)];
+      const float ax = ax_[static_cast<size_t>(i)];
+      const float top = r0[x] + ax * static_cast<float>(r0[x + x_step] - r0[x]);
+      const float bottom = r1[x] + ax * static_cast<float>(r1[x + x_step] - r1[x]);
+      *out++ = top + ay * (bottom - top);
+    }
+  }
+  // Templates are zero-mean, so sum(s * t) needs no mean removal; the norm of s - mean is
+  // sqrt(sum s^2 - n mean^2). Independent partial sums keep the loops free of long dependency chains.
+  const size_t n = samples_.size();
+  const float* sp = samples_.data();
+  const float* t0 = templates_[0].data();
+  const float* t1 = templates_[1].data();
+  const float* t2 = templates_[2].data();
+  const float* t3 = templates_[3].data();
+  float s1[4] = { 0.f, 0.f, 0.f, 0.f }, s2[4] = { 0.f, 0.f, 0.f, 0.f };
+  float d0[4] = { 0.f, 0.f, 0.f, 0.f }, d1[4] = { 0.f, 0.f, 0.f, 0.f };
+  float d2[4] = { 0.f, 0.f, 0.f, 0.f }, d3[4] = { 0.f, 0.f, 0.f, 0.f };
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4)
+    for (size_t k = 0; k < 4; ++k)
+    {
+      const float v = sp[i + k];
+      s1[k] += v;
+      s2[k] += v * v;
+      d0[k] += v * t0[i + k];
+      d1[k] += v * t1[i + k];
+      d2[k] += v * t2[i + k];
+      d3[k] += v * t3[i + k];
+    }
+  for (; i < n; ++i)
+  {
+    const float v = sp[i];
+    s1[0] += v;
+    s2[0] += v * v;
+    d0[0] += v * t0[i];
+    d1[0] += v * t1[i];
+    d2[0] += v * t2[i];
+    d3[0] += v * t3[i];
+  }
+  const float sum = s1[0] + s1[1] + s1[2] + s1[3];
+  const float sum_sq = s2[0] + s2[1] + s2[2] + s2[3];
+  const float dots[4] = { d0[0] + d0[1] + d0[2] + d0[3], d1[0] + d1[1] + d1[2] + d1[3],
+                          d2[0] + d2[1] + d2[2] + d2[3], d3[0] + d3[1] + d3[2] + d3[3] };
+  const float var = sum_sq - sum * sum / static_cast<float>(n);
+  blob.shape = 0;
+  blob.correlation = 0.f;
+  blob.margin = 0.f;
+  if (!(var > 1e-3f * static_cast<float>(n)))
+    return;
+  const float inv = 1.f / std::sqrt(var);
+  float best = -2.f, second = -2.f;
+  int best_shape = 0;
+  for (int k = 0; k < 4; ++k)
+  {
+    const float c = dots[k] * inv;
+    if (c > best)
+    {
+      second = best;
+      best = c;
+      best_shape = k + 1;
+    }
+    else if (c > second)
+      second = c;
+  }
+  blob.correlation = best;
+  blob.margin = best - second;
+  if (best >= config_.min_correlation && blob.margin >= config_.min_margin)
+    blob.shape = best_shape;
+}
+
+}  // namespace sl_decoder

@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "sl_decoder/blob_detector.h"
+
+using namespace sl_decoder;
+
+namespace
+{
+// A bright Gaussian-blurred rectangle centred at (cx, cy) (sub-pixel), drawn 8x supersampled.
+void drawBlob(cv::Mat& image, double cx, double cy, double w, double h, double level)
+{
+  const int s = 8;
+  cv::Mat big(image.rows * s, image.cols * s, CV_32F, cv::Scalar(0));
+  cv::rectangle(big, cv::Point2d((cx - w / 2 + 0.5) * s, (cy - h / 2 + 0.5) * s),
+                cv::Point2d((cx + w / 2 + 0.5) * s - 1, (cy + h / 2 + 0.5) * s - 1), cv::Scalar(level), cv::FILLED);
+  cv::GaussianBlur(big, big, cv::Size(0, 0), 0.8 * s);
+  cv::Mat small;
+  cv::resize(big, small, image.size(), 0, 0, cv::INTER_AREA);
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  f += small;
+  f.convertTo(image, CV_8U);
+}
+}  // namespace
+
+TEST(BlobDetector, FindsBlobsWithSubPixelCentroids)
+{
+  cv::Mat image(120, 160, CV_8UC1, cv::Scalar(20));
+  const double xs[3] = { 30.3, 80.5, 121.8 }, ys[3] = { 40.25, 60.0, 90.7 };
+  for (int i = 0; i < 3; ++i)
+    drawBlob(image, xs[i], ys[i], 10, 18, 180);
+  BlobDetector detector;
+  std::vector<Blob> blobs;
+  detector.detect(image, blobs);
+  ASSERT_EQ(blobs.size(), 3u);
+  for (int i = 0; i < 3; ++i)
+  {
+    // Blobs come out in raster order of their first pixel.
+    EXPECT_NEAR(blobs[static_cast<size_t>(i)].u, xs[i], 0.05) << i;
+    EXPECT_NEAR(blobs[static_cast<size_t>(i)].v, ys[i], 0.05) << i;
+    EXPECT_GT(blobs[static_cast<size_t>(i)].contrast, 50.f);
+    EXPECT_GE(blobs[static_cast<size_t>(i)].width(), 9);
+    EXPECT_GE(blobs[static_cast<size_t>(i)].height(), 17);
+  }
+}
+
+TEST(BlobDetector, RejectsSpecklesBandsAndHugePatches)
+{
+  cv::Mat image(200, 300, CV_8UC1, cv::Scalar(30));
+  cv::rectangle(image, cv::Rect(20, 20, 2, 2), cv::Scalar(250), cv::FILLED);     // speckle
+  cv::rectangle(image, cv::Rect(50, 60, 120, 6), cv::Scalar(250), cv::FILLED);   // horizontal band
+  cv::rectangle(image, cv::Rect(200, 100, 10, 18), cv::Scalar(250), cv::FILLED); // a primitive
+  BlobDetector detector;
+  std::vector<Blob> blobs;
+  detector.detect(image, blobs);
+  ASSERT_EQ(blobs.size(), 1u);
+  EXPECT_NEAR(blobs[0].u, 204.5, 0.3);
+  EXPECT_GE(detector.componentCount(), 3);
+}
+
+TEST(BlobDetector, EmptyBlackAndSaturatedImagesGiveNothing)
+{
+  BlobDetector detector;
+  std::vector<Blob> blobs;
+  detector.detect(cv::Mat(480, 752, CV_8UC1, cv::Scalar(0)), blobs);
+  EXPECT_TRUE(blobs.empty());
+  detector.detect(cv::Mat(480, 752, CV_8UC1, cv::Scalar(255)), blobs);
+  EXPECT_TRUE(blobs.empty());
+  detector.detect(cv::Mat(0, 0, CV_8UC1), blobs);
+  EXPECT_TRUE(blobs.empty());
+  cv::Mat noise(480, 752, CV_8UC1);
+  cv::randn(noise, 40, 2);  // dim sensor noise: speckles, not primitives
+  detector.detect(noise, blobs);
+  EXPECT_LT(blobs.size(), 5u);
+}
+
+TEST(BlobDetector, BlobsTouchingTheBorderAreKept)
+{
+  cv::Mat image(60, 60, CV_8UC1, cv::Scalar(10));
+  cv::rectangle(image, cv::Rect(0, 0, 9, 17), cv::Scalar(200), cv::FILLED);
+  cv::rectangle(image, cv::Rect(51, 43, 9, 17), cv::Scalar(200), cv::FILLED);
+  BlobDetector detector;
+  std::vector<Blob> blobs;
+  detector.detect(image, blobs);
+  ASSERT_EQ(blobs.size(), 2u);
+  EXPECT_EQ(blobs[0].x0, 0);
+  EXPECT_EQ(blobs[1].x1, 60);
+}

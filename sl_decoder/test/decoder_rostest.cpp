@@ -1,0 +1,74 @@
+// The decoder in a running system: the cloud arrives in platform_edge with the wall where the scene
+// puts it; the lazy debug and depth outputs work; a missing transform publishes nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+TEST(DecoderNodelet, WallArrivesInPlatformEdge)
+{
+  ros::NodeHandle nh;
+  const auto cloud = ros::topic::waitForMessage<sensor_msgs::PointCloud2>("points", nh, ros::Duration(120.0));
+  ASSERT_TRUE(cloud) << "no points";
+  EXPECT_EQ(cloud->header.frame_id, "platform_edge");
+  ASSERT_GT(cloud->width * cloud->height, 600u);
+  std::vector<std::string> names;
+  for (const auto& f : cloud->fields)
+    names.push_back(f.name);
+  EXPECT_EQ(names, (std::vector<std::string>{ "x", "y", "z", "confidence", "row", "col", "u", "v" }));
+  // plane_700: a wall perpendicular to the robot 700 mm in front of the camera, which sits 30 mm
+  // behind the edge: x = 0.670 m in platform_edge, seen from the floor up, across the window.
+  double sum_x = 0.0, min_z = 1e9, max_z = -1e9, min_y = 1e9, max_y = -1e9;
+  size_t n = 0, off_wall = 0;
+  for (sensor_msgs::PointCloud2ConstIterator<float> it(*cloud, "x"); it != it.end(); ++it)
+  {
+    sum_x += it[0];
+    off_wall += std::abs(it[0] - 0.670) > 0.01;
+    min_y = std::min(min_y, static_cast<double>(it[1]));
+    max_y = std::max(max_y, static_cast<double>(it[1]));
+    min_z = std::min(min_z, static_cast<double>(it[2]));
+    max_z = std::max(max_z, static_cast<double>(it[2]));
+    ++n;
+  }
+  EXPECT_NEAR(sum_x / n, 0.670, 0.003);
+  EXPECT_EQ(off_wall, 0u);
+  EXPECT_LT(min_z, 0.02);
+  EXPECT_GT(max_z, 0.17);
+  EXPECT_LT(min_y, -0.15);
+  EXPECT_GT(max_y, 0.15);
+}
+
+TEST(DecoderNodelet, DebugAndDepthImagesOnDemand)
+{
+  ros::NodeHandle nh;
+  const auto debug = ros::topic::waitForMessage<sensor_msgs::Image>("debug_image", nh, ros::Duration(60.0));
+  ASSERT_TRUE(debug);
+  EXPECT_EQ(debug->encoding, "bgr8");
+  EXPECT_EQ(debug->width, 752u);
+  const auto depth = ros::topic::waitForMessage<sensor_msgs::Image>("depth/image_raw", nh, ros::Duration(60.0));
+  ASSERT_TRUE(depth);
+  EXPECT_EQ(depth->encoding, "32FC1");
+  EXPECT_EQ(depth->header.frame_id, "camera_optical_frame");
+  const float* z = reinterpret_cast<const float*>(depth->data.data());
+  size_t valid = 0;
+  for (size_t i = 0; i < depth->width * depth->height; ++i)
+    if (std::isfinite(z[i]))
+    {
+      ++valid;
+      EXPECT_NEAR(z[i], 0.70, 0.02);
+    }
+  EXPECT_GT(valid, 600u);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "decoder_rostest");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}

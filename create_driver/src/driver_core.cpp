@@ -1,0 +1,519 @@
+#include "create_driver/driver_core.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace create_driver
+{
+namespace
+{
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr double kBackingEps = 1e-3;  // m/s
+
+bool positive(double v)
+{
+  return std::isfinite(v) && v > 0.0;
+}
+}  // namespace
+
+std::string validateConfig(const DriverConfig& c)
+{
+  const VelocityLimits& l = c.limits;
+  if (!positive(l.max_speed) || l.max_speed > 0.5)
+    return "max_speed must be in (0, 0.5] m/s";
+  if (!positive(l.max_angular_speed))
+    return "max_angular_speed must be > 0";
+  if (!std::isfinite(l.max_accel) || l.max_accel < 0.0)
+    return "max_accel must be >= 0 (0 = unlimited)";
+  if (!std::isfinite(l.max_angular_accel) || l.max_angular_accel < 0.0)
+    return "max_angular_accel must be >= 0 (0 = unlimited)";
+  if (!positive(l.max_wheel_speed) || l.max_wheel_speed > 0.5)
+    return "max_wheel_speed must be in (0, 0.5] m/s";
+  if (!positive(l.wheel_base) || l.wheel_base > 1.0)
+    return "wheel_base must be in (0, 1] m";
+  if (!positive(c.cmd_vel_timeout))
+    return "cmd_vel_timeout must be > 0";
+  if (!positive(c.command_refresh))
+    return "command_refresh must be > 0";
+  const DriveDistanceParams& d = c.drive_distance;
+  if (!positive(d.min_speed) || d.min_speed > l.max_speed)
+    return "drive_distance/min_speed must be in (0, max_speed]";
+  if (!positive(d.max_speed))
+    return "drive_distance max speed must be > 0";
+  if (!positive(d.decel))
+    return "drive_distance/decel must be > 0";
+  if (!std::isfinite(d.tolerance) || d.tolerance < 0.0 || d.tolerance > 0.05)
+    return "drive_distance/tolerance must be in [0, 0.05] m";
+  if (!std::isfinite(d.latency) || d.latency < 0.0 || d.latency > 1.0)
+    return "drive_distance/latency must be in [0, 1] s";
+  if (!positive(d.stall_timeout))
+    return "drive_distance/stall_timeout must be > 0";
+  if (!std::isfinite(d.heading_gain) || d.heading_gain < 0.0)
+    return "drive_distance/heading_gain must be >= 0";
+  if (c.use_wait_distance && c.model != Model::CREATE_1)
+    return "use_wait_distance is only available on the Create 1 (model create_1)";
+  if (c.mode == OiMode::OFF)
+    return "oi_mode must be passive, safe or full";
+  if (!positive(c.odometry.wheel_base))
+    return "wheel_base must be > 0";
+  return "";
+}
+
+std::vector<uint8_t> driverStreamIds(Model model)
+{
+  std::vector<uint8_t> ids = { packet::BUMPS_WHEEL_DROPS,
+                               packet::CLIFF_LEFT,
+                               packet::CLIFF_FRONT_LEFT,
+                               packet::CLIFF_FRONT_RIGHT,
+                               packet::CLIFF_RIGHT,
+                               packet::BUTTONS,
+                               packet::DISTANCE,
+                               packet::ANGLE,
+                               packet::CHARGING_STATE,
+                               packet::VOLTAGE,
+                               packet::CURRENT,
+                               packet::TEMPERATURE,
+                               packet::BATTERY_CHARGE,
+                               packet::BATTERY_CAPACITY,
+                               packet::OI_MODE };
+  if (model == Model::CREATE_2)
+  {
+    ids.push_back(packet::LEFT_ENCODER_COUNTS);
+    ids.push_back(packet::RIGHT_ENCODER_COUNTS);
+  }
+  return ids;
+}
+
+DriverCore::DriverCore(const DriverConfig& config)
+  : config_(config)
+  , stream_ids_(driverStreamIds(config.model))
+  , parser_(config.model)
+  , odometry_(config.odometry)
+  , limiter_(config.limits)
+  , dd_(config.drive_distance)
+{
+  parser_.setExpectedIds(stream_ids_);
+  outcomes_.reserve(4);
+}
+
+void DriverCore::onConnected(double now, Bytes& out)
+{
+  connected_ = true;
+  have_frame_ = false;
+  parser_.clearBuffer();
+  corrupt_seen_ = parser_.counters().corrupt_frames;
+  frames_lost_ = false;
+  odometry_.resetEncoderBaseline();
+  cmd_active_ = false;
+  limiter_.reset();
+  force_stop_ = false;
+  have_sent_ = false;
+  reported_mode_ = -1;
+  last_control_ = now;
+  appendStart(out);
+  start_phase_ = 1;
+  start_time_ = now;
+  ++stats_.start_sequences;
+}
+
+void DriverCore::onDisconnected(double /*now*/)
+{
+  if (dd_.active())
+    finishGoal(StopReason::DISCONNECTED, "serial link lost");
+  connected_ = false;
+  have_frame_ = false;
+  start_phase_ = 0;
+  cmd_active_ = false;
+  wd_active_ = false;
+  limiter_.reset();
+  reported_mode_ = -1;
+  have_sent_ = false;
+}
+
+void DriverCore::shutdown(Bytes& out)
+{
+  if (dd_.active())
+    finishGoal(StopReason::DISCONNECTED, "driver shutting down");
+  cmd_active_ = false;
+  limiter_.reset();
+  appendDriveDirect(out, 0, 0);
+  appendDrive(out, 0, oi::RADIUS_STRAIGHT);
+  appendPauseResumeStream(out, false);
+  appendPassive(out);
+}
+
+size_t DriverCore::onBytes(const uint8_t* data, size_t len, double now, Bytes& out)
+{
+  const size_t n = parser_.feed(data, len);
+  const auto& updates = parser_.updates();
+  // Frames were lost to line noise if corrupt frames were seen since the last good one.
+  if (parser_.counters().corrupt_frames != corrupt_seen_)
+    frames_lost_ = true;
+  corrupt_seen_ = parser_.counters().corrupt_frames;
+  for (size_t i = 0; i < n; ++i)
+  {
+    // Frames that arrived in one read are 15 ms apart on the wire.
+    const double stamp = now - static_cast<double>(n - 1 - i) * oi::STREAM_PERIOD_S;
+    if (i == 0 && frames_lost_)
+      fillLostFrames(stamp);
+    frames_lost_ = false;
+    processFrame(updates[i], stamp);
+    last_frame_stamp_ = stamp;
+  }
+  if (n > 0)
+    control(now, out);
+  return n;
+}
+
+void DriverCore::fillLostFrames(double stamp)
+{
+  // Distance and angle (packets 19, 20) count since the previous report, so a frame lost to
+  // noise loses its increment. Estimate it from the velocity over the gap. Encoder counts
+  // (Create 2) are absolute and need no estimate.
+  if (!have_frame_ || config_.model == Model::CREATE_2)
+    return;
+  const double gap = stamp - last_frame_stamp_;
+  const long missed = std::clamp(std::lround(gap / oi::STREAM_PERIOD_S) - 1, 0L, 5L);
+  if (missed == 0)
+    return;
+  const double span = static_cast<double>(missed) * oi::STREAM_PERIOD_S;
+  odometry_.updateDistanceAngle(odometry_.linearVelocity() * span, odometry_.angularVelocity() * span,
+                                stamp - oi::STREAM_PERIOD_S);
+  stats_.frames_estimated += static_cast<uint64_t>(missed);
+}
+
+void DriverCore::processFrame(const SensorState& s, double stamp)
+{
+  have_frame_ = true;
+  if (config_.model == Model::CREATE_2 && s.has(packet::LEFT_ENCODER_COUNTS) && s.has(packet::RIGHT_ENCODER_COUNTS))
+  {
+    odometry_.updateEncoders(static_cast<uint16_t>(s.get(packet::LEFT_ENCODER_COUNTS)),
+                             static_cast<uint16_t>(s.get(packet::RIGHT_ENCODER_COUNTS)), stamp);
+  }
+  else if (s.has(packet::DISTANCE) && s.has(packet::ANGLE))
+  {
+    odometry_.updateDistanceAngle(s.distanceMm() / 1000.0, s.angleDeg() * kDegToRad, stamp);
+  }
+  if (s.has(packet::OI_MODE))
+    reported_mode_ = s.oiMode();
+
+  const bool backing = limiter_.linear() < -kBackingEps;
+  if (latch_.update(s, backing))
+  {
+    ++stats_.hazard_stops;
+    force_stop_ = true;
+    if (dd_.active() && !latch_.allows(dd_.goal()))
+    {
+      std::ostringstream msg;
+      msg << hazardName(latch_.reason()) << " detected";
+      finishGoal(hazardReason(latch_.reason()), msg.str());
+    }
+    if (cmd_active_ && !latch_.allows(cmd_linear_))
+      cmd_active_ = false;
+  }
+}
+
+void DriverCore::control(double now, Bytes& out)
+{
+  if (!connected_)
+    return;
+  if (start_phase_ == 1 && now - start_time_ >= config_.start_gap)
+  {
+    if (config_.mode != OiMode::PASSIVE)
+      appendMode(out, config_.mode);
+    appendMotion(0.0, 0.0, out);
+    appendStream(out, stream_ids_);
+    start_phase_ = 2;
+    last_mode_sent_ = now;
+  }
+  if (!have_frame_)
+  {
+    if (start_phase_ == 2 && now - start_time_ >= config_.start_retry)
+    {
+      appendStart(out);
+      start_phase_ = 1;
+      start_time_ = now;
+      ++stats_.start_sequences;
+    }
+    last_control_ = now;
+    return;
+  }
+
+  const double dt = std::clamp(now - last_control_, 0.0, 0.1);
+  last_control_ = now;
+  double v = 0.0;
+  double w = 0.0;
+  bool emergency = force_stop_;
+  force_stop_ = false;
+
+  if (dd_.active())
+  {
+    const DriveDistanceController::Output o = dd_.update(odometry_.distance(), odometry_.yawContinuous(), now);
+    if (o.finished)
+    {
+      finishGoal(o.reason, o.reason == StopReason::REACHED ? "reached" :
+                                                             "no progress (robot held back?) or goal took too long");
+      emergency = true;
+    }
+    else if (wd_active_)
+    {
+      // The robot executes the Wait Distance script by itself and ignores commands meanwhile.
+      return;
+    }
+    else
+    {
+      v = o.linear;
+      w = o.angular;
+    }
+  }
+  else if (cmd_active_)
+  {
+    if (now - cmd_time_ > config_.cmd_vel_timeout)
+    {
+      cmd_active_ = false;
+      ++stats_.watchdog_stops;
+      emergency = true;
+    }
+    else
+    {
+      v = cmd_linear_;
+      w = cmd_angular_;
+    }
+  }
+
+  if (latch_.latched() && !latch_.allows(v))
+  {
+    v = 0.0;
+    w = 0.0;
+  }
+  if (config_.mode == OiMode::PASSIVE)
+  {
+    v = 0.0;
+    w = 0.0;
+  }
+  if (emergency)
+  {
+    limiter_.reset();
+    v = 0.0;
+    w = 0.0;
+  }
+  else
+  {
+    limiter_.limit(v, w, dt, v, w);
+  }
+
+  const bool moving = std::fabs(v) > 1e-4 || std::fabs(w) > 1e-4;
+  if (moving && config_.mode != OiMode::PASSIVE && reported_mode_ >= 0 &&
+      reported_mode_ != static_cast<int>(config_.mode) && now - last_mode_sent_ >= config_.mode_retry)
+  {
+    appendMode(out, config_.mode);
+    last_mode_sent_ = now;
+    ++stats_.mode_reasserts;
+    have_sent_ = false;  // follow the mode change with the motion command
+  }
+
+  // Encode; send when changed or due for a refresh.
+  int a = 0;
+  int b = 0;
+  if (config_.drive_type == DriveCommandType::DIRECT)
+  {
+    const WheelSpeeds ws = twistToWheels(v, w, config_.limits.wheel_base, config_.limits.max_wheel_speed);
+    a = static_cast<int>(std::lround(ws.left * 1000.0));
+    b = static_cast<int>(std::lround(ws.right * 1000.0));
+  }
+  else
+  {
+    const DriveRadius d = twistToDriveRadius(v, w, config_.limits.wheel_base, config_.limits.max_wheel_speed);
+    a = d.velocity_mm_s;
+    b = d.radius_mm;
+  }
+  if (!have_sent_ || a != last_key_a_ || b != last_key_b_ || now - last_sent_time_ >= config_.command_refresh)
+  {
+    appendMotion(v, w, out);
+    have_sent_ = true;
+    last_key_a_ = a;
+    last_key_b_ = b;
+    last_sent_time_ = now;
+  }
+}
+
+void DriverCore::appendMotion(double linear, double angular, Bytes& out)
+{
+  const WheelSpeeds ws = twistToWheels(linear, angular, config_.limits.wheel_base, config_.limits.max_wheel_speed);
+  if (config_.drive_type == DriveCommandType::DIRECT)
+  {
+    last_left_ = static_cast<int>(std::lround(ws.left * 1000.0));
+    last_right_ = static_cast<int>(std::lround(ws.right * 1000.0));
+    appendDriveDirect(out, last_right_, last_left_);
+  }
+  else
+  {
+    const DriveRadius d = twistToDriveRadius(linear, angular, config_.limits.wheel_base, config_.limits.max_wheel_speed);
+    const WheelSpeeds sent = driveRadiusToWheels(d.velocity_mm_s, d.radius_mm, config_.limits.wheel_base);
+    last_left_ = static_cast<int>(std::lround(sent.left * 1000.0));
+    last_right_ = static_cast<int>(std::lround(sent.right * 1000.0));
+    appendDrive(out, d.velocity_mm_s, d.radius_mm);
+  }
+  ++stats_.commands_sent;
+}
+
+bool DriverCore::setVelocity(double linear, double angular, double now, std::string* error)
+{
+  if (!isFiniteCommand(linear, angular))
+  {
+    ++stats_.rejected_commands;
+    if (error)
+      *error = "cmd_vel contains NaN or infinite values; ignored";
+    return false;
+  }
+  if (dd_.active())
+  {
+    // A zero twist (idle teleop, or a "stop turning" sent just before a goal) leaves the goal
+    // alone; cancel the goal to stop it.
+    if (linear == 0.0 && angular == 0.0)
+      return true;
+    if (!config_.cmd_vel_preempts_goal)
+    {
+      ++stats_.rejected_commands;
+      if (error)
+        *error = "cmd_vel ignored while a drive_distance goal is active";
+      return false;
+    }
+    finishGoal(StopReason::PREEMPTED, "overridden by cmd_vel");
+    if (wd_active_)
+      wd_active_ = false;
+  }
+  cmd_active_ = true;
+  cmd_linear_ = linear;
+  cmd_angular_ = angular;
+  cmd_time_ = now;
+  if (latch_.latched() && !latch_.allows(linear))
+    force_stop_ = true;
+  return true;
+}
+
+GoalStart DriverCore::startGoal(double distance, double speed, double now, Bytes& out)
+{
+  GoalStart r;
+  r.id = next_goal_id_++;
+  auto reject = [&](StopReason reason, const std::string& msg) {
+    r.accepted = false;
+    r.reason = reason;
+    r.message = msg;
+    return r;
+  };
+  if (!std::isfinite(distance) || !std::isfinite(speed) || speed <= 0.0)
+    return reject(StopReason::INVALID_GOAL, "distance and speed must be finite and speed > 0");
+  if (config_.mode == OiMode::PASSIVE)
+    return reject(StopReason::INVALID_GOAL, "the driver runs in passive mode (oi_mode), the robot cannot drive");
+  if (!connected_ || !have_frame_)
+    return reject(StopReason::DISCONNECTED, "robot not connected");
+  if (latch_.latched() && !latch_.allows(distance))
+    return reject(hazardReason(latch_.reason()),
+                  std::string(hazardName(latch_.reason())) + " latched: call reset_hazard or back away first");
+  if (dd_.active())
+    finishGoal(StopReason::PREEMPTED, "replaced by a new goal");
+  cmd_active_ = false;
+  wd_active_ = false;
+
+  std::string error;
+  if (!dd_.start(distance, speed, odometry_.distance(), odometry_.yawContinuous(), now, &error))
+    return reject(StopReason::INVALID_GOAL, error);
+  goal_id_ = r.id;
+  r.accepted = true;
+  r.reason = StopReason::REACHED;
+  if (config_.use_wait_distance && distance != 0.0)
+  {
+    const int dir = distance < 0.0 ? -1 : 1;
+    const int v_mm = dir * static_cast<int>(std::lround(std::min(dd_.speed(), config_.limits.max_speed) * 1000.0));
+    appendMode(out, config_.mode);
+    appendDrive(out, v_mm, oi::RADIUS_STRAIGHT);
+    appendWaitDistance(out, static_cast<int>(std::lround(distance * 1000.0)));
+    appendDrive(out, 0, oi::RADIUS_STRAIGHT);
+    wd_active_ = true;
+    ++stats_.commands_sent;
+  }
+  if (distance == 0.0)
+  {
+    finishGoal(StopReason::REACHED, "zero distance");
+  }
+  return r;
+}
+
+void DriverCore::cancelGoal(uint64_t id, StopReason reason, const std::string& message)
+{
+  if (!dd_.active() || id != goal_id_)
+    return;
+  finishGoal(reason, message);
+}
+
+bool DriverCore::resetHazard(std::string* message)
+{
+  if (!latch_.latched())
+  {
+    if (message)
+      *message = "no hazard latched";
+    return true;
+  }
+  std::string why;
+  if (!latch_.reset(parser_.state(), &why))
+  {
+    if (message)
+      *message = why;
+    return false;
+  }
+  if (message)
+    *message = "hazard latch cleared";
+  return true;
+}
+
+void DriverCore::takeOutcomes(std::vector<GoalOutcome>& out)
+{
+  out.insert(out.end(), outcomes_.begin(), outcomes_.end());
+  outcomes_.clear();
+}
+
+GoalProgress DriverCore::goalProgress() const
+{
+  GoalProgress p;
+  p.active = dd_.active();
+  p.id = goal_id_;
+  p.travelled = dd_.active() ? dd_.travelledAt(odometry_.distance()) : dd_.travelled();
+  p.remaining = dd_.goal() - p.travelled;
+  return p;
+}
+
+void DriverCore::finishGoal(StopReason reason, const std::string& message)
+{
+  const double travelled = dd_.active() ? dd_.travelledAt(odometry_.distance()) : dd_.travelled();
+  dd_.abort(reason);
+  GoalOutcome o;
+  o.id = goal_id_;
+  o.reason = reason;
+  o.travelled = travelled;
+  o.message = message;
+  if (wd_active_ && reason != StopReason::REACHED)
+    o.message += "; the robot ignores all commands until its Wait Distance is covered";
+  outcomes_.push_back(o);
+  wd_active_ = false;
+  force_stop_ = true;
+}
+
+StopReason DriverCore::hazardReason(Hazard hazard)
+{
+  switch (hazard)
+  {
+    case Hazard::BUMPER:
+      return StopReason::BUMPER;
+    case Hazard::CLIFF:
+      return StopReason::CLIFF;
+    case Hazard::WHEEL_DROP:
+      return StopReason::WHEEL_DROP;
+    case Hazard::NONE:
+      break;
+  }
+  return StopReason::INVALID_GOAL;
+}
+
+}  // namespace create_driver

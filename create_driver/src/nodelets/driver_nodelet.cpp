@@ -1,0 +1,740 @@
+// create_driver/driver: the ROS face of DriverCore + SerialLink. Parameters are read and
+// checked in loadParameters(); everything else is message conversion.
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include <actionlib/server/action_server.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/Odometry.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/BatteryState.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "create_driver/DriveDistanceAction.h"
+#include "create_driver/Hazards.h"
+#include "create_driver/Mode.h"
+#include "create_driver/driver_core.h"
+#include "create_driver/serial_link.h"
+
+namespace create_driver
+{
+static_assert(DriveDistanceResult::REACHED == static_cast<uint8_t>(StopReason::REACHED), "result constants");
+static_assert(DriveDistanceResult::PREEMPTED == static_cast<uint8_t>(StopReason::PREEMPTED), "result constants");
+static_assert(DriveDistanceResult::BUMPER == static_cast<uint8_t>(StopReason::BUMPER), "result constants");
+static_assert(DriveDistanceResult::CLIFF == static_cast<uint8_t>(StopReason::CLIFF), "result constants");
+static_assert(DriveDistanceResult::WHEEL_DROP == static_cast<uint8_t>(StopReason::WHEEL_DROP), "result constants");
+static_assert(DriveDistanceResult::TIMEOUT == static_cast<uint8_t>(StopReason::TIMEOUT), "result constants");
+static_assert(DriveDistanceResult::DISCONNECTED == static_cast<uint8_t>(StopReason::DISCONNECTED), "result constants");
+static_assert(DriveDistanceResult::INVALID_GOAL == static_cast<uint8_t>(StopReason::INVALID_GOAL), "result constants");
+
+namespace
+{
+/// Reads an optional private parameter; a value of the wrong type is an error naming it.
+template <typename T>
+T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
+{
+  if (!pnh.hasParam(name))
+    return fallback;
+  T value;
+  if (!pnh.getParam(name, value))
+    throw std::invalid_argument("~" + name + " has the wrong type");
+  return value;
+}
+
+void require(bool ok, const std::string& message)
+{
+  if (!ok)
+    throw std::invalid_argument(message);
+}
+
+uint8_t linkStateToMsg(LinkState s)
+{
+  switch (s)
+  {
+    case LinkState::DISCONNECTED:
+      return Mode::LINK_DISCONNECTED;
+    case LinkState::CONNECTING:
+      return Mode::LINK_CONNECTING;
+    case LinkState::STARTING:
+      return Mode::LINK_STARTING;
+    case LinkState::RUNNING:
+      return Mode::LINK_RUNNING;
+  }
+  return Mode::LINK_DISCONNECTED;
+}
+
+const char* reportedModeName(int mode)
+{
+  if (mode < 0 || mode > 3)
+    return "unknown";
+  return oiModeName(static_cast<OiMode>(mode));
+}
+}  // namespace
+
+/// @brief Nodelet create_driver/driver (see README.md for its ROS interface).
+class DriverNodelet : public nodelet::Nodelet
+{
+public:
+  ~DriverNodelet() override
+  {
+    if (!link_)
+      return;
+    // No more ROS input; then stop the wheels, pause the stream and leave the robot in Passive
+    // so it can charge, and only then stop the worker thread.
+    diag_timer_.stop();
+    cmd_sub_.shutdown();
+    reset_srv_.shutdown();
+    Bytes bye;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      core_->shutdown(bye);
+    }
+    link_->stop(bye, 0.5);
+    if (ros::ok())
+      processOutcomes();
+    // No goal callbacks after this point (the stopped link ignores requestControl()).
+    server_.reset();
+  }
+
+private:
+  using Server = actionlib::ActionServer<DriveDistanceAction>;
+  using GoalHandle = Server::GoalHandle;
+
+  /// Snapshot of what is published after frames, taken under the lock.
+  struct Snapshot
+  {
+    SensorState sensors;
+    Pose2D pose;
+    double v = 0.0, w = 0.0;
+    bool latched = false;
+    Hazard latch_reason = Hazard::NONE;
+    GoalProgress progress;
+    int reported_mode = -1;
+  };
+
+  void onInit() override
+  {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    loadParameters(pnh);
+    core_ = std::make_unique<DriverCore>(config_);
+
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
+    hazards_pub_ = nh.advertise<Hazards>("hazards", 10, true);
+    battery_pub_ = nh.advertise<sensor_msgs::BatteryState>("battery", 1, true);
+    mode_pub_ = nh.advertise<Mode>("mode", 1, true);
+    if (publish_tf_)
+      tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+    reset_srv_ = nh.advertiseService("reset_hazard", &DriverNodelet::resetHazard, this);
+    cmd_sub_ = nh.subscribe("cmd_vel", 10, &DriverNodelet::cmdVel, this);
+
+    server_ = std::make_unique<Server>(
+        nh, "drive_distance", [this](GoalHandle gh) { goalCallback(gh); },
+        [this](GoalHandle gh) { cancelCallback(gh); }, false);
+    server_->start();
+
+    updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    updater_->setHardwareID("iRobot Create OI on " + link_params_.port);
+    updater_->add("Connection", this, &DriverNodelet::diagConnection);
+    updater_->add("Sensor stream", this, &DriverNodelet::diagStream);
+    updater_->add("Control loop", this, &DriverNodelet::diagControl);
+    updater_->add("Safety", this, &DriverNodelet::diagSafety);
+    updater_->add("Battery", this, &DriverNodelet::diagBattery);
+    diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) {
+      updater_->update();
+      publishMode();
+    });
+
+    SerialLink::Handlers h;
+    h.on_open = [this](double now, Bytes& out) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      pending_out_.clear();
+      core_->onConnected(now, out);
+    };
+    h.on_data = [this](const uint8_t* data, size_t len, double now, Bytes& out) {
+      size_t n = 0;
+      Snapshot snap;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        n = core_->onBytes(data, len, now, out);
+        flushPending(out);
+        if (n > 0)
+          snap = snapshot();
+      }
+      if (n > 0)
+        publish(snap, now);
+      processOutcomes();
+      return n;
+    };
+    h.on_tick = [this](double now, Bytes& out) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        core_->control(now, out);
+        flushPending(out);
+      }
+      processOutcomes();
+    };
+    h.on_state = [this](LinkState state, const std::string& reason) { linkState(state, reason); };
+    link_ = std::make_unique<SerialLink>(link_params_, h);
+    link_->start();
+    NODELET_INFO("create_driver: %s on %s at %u baud, %s mode", model_name_.c_str(), link_params_.port.c_str(),
+                 link_params_.baud, oiModeName(config_.mode));
+  }
+
+  void loadParameters(const ros::NodeHandle& pnh)
+  {
+    model_name_ = param<std::string>(pnh, "model", "create_1");
+    if (model_name_ == "create_1" || model_name_ == "create")
+      config_.model = Model::CREATE_1;
+    else if (model_name_ == "create_2" || model_name_ == "roomba_600")
+      config_.model = Model::CREATE_2;
+    else
+      throw std::invalid_argument("~model must be create_1 or create_2 (got '" + model_name_ + "')");
+
+    link_params_.port = param<std::string>(pnh, "port", "/dev/ttyUSB0");
+    require(!link_params_.port.empty(), "~port must not be empty");
+    const int baud = param<int>(pnh, "baud", static_cast<int>(defaultBaud(config_.model)));
+    require(baud > 0, "~baud must be > 0");
+    link_params_.baud = static_cast<unsigned>(baud);
+
+    const std::string mode = param<std::string>(pnh, "oi_mode", "safe");
+    if (mode == "safe")
+      config_.mode = OiMode::SAFE;
+    else if (mode == "full")
+      config_.mode = OiMode::FULL;
+    else if (mode == "passive")
+      config_.mode = OiMode::PASSIVE;
+    else
+      throw std::invalid_argument("~oi_mode must be safe, full or passive (got '" + mode + "')");
+
+    const std::string drive = param<std::string>(pnh, "drive_command", "direct");
+    if (drive == "direct")
+      config_.drive_type = DriveCommandType::DIRECT;
+    else if (drive == "radius")
+      config_.drive_type = DriveCommandType::RADIUS;
+    else
+      throw std::invalid_argument("~drive_command must be direct or radius (got '" + drive + "')");
+
+    const double wheel_base = param<double>(pnh, "wheel_base", defaultWheelBase(config_.model));
+    require(std::isfinite(wheel_base) && wheel_base > 0.05 && wheel_base < 1.0, "~wheel_base must be in (0.05, 1) m");
+    config_.limits.wheel_base = wheel_base;
+    config_.odometry.wheel_base = wheel_base;
+    config_.limits.max_speed = param<double>(pnh, "max_speed", 0.5);
+    require(config_.limits.max_speed > 0.0 && config_.limits.max_speed <= 0.5, "~max_speed must be in (0, 0.5] m/s");
+    config_.limits.max_angular_speed = param<double>(pnh, "max_angular_speed", 2.0 * 0.5 / wheel_base);
+    require(config_.limits.max_angular_speed > 0.0, "~max_angular_speed must be > 0");
+    config_.limits.max_accel = param<double>(pnh, "max_accel", 1.0);
+    require(config_.limits.max_accel >= 0.0, "~max_accel must be >= 0 (0 = unlimited)");
+    config_.limits.max_angular_accel = param<double>(pnh, "max_angular_accel", 6.0);
+    require(config_.limits.max_angular_accel >= 0.0, "~max_angular_accel must be >= 0 (0 = unlimited)");
+
+    config_.cmd_vel_timeout = param<double>(pnh, "cmd_vel_timeout", 0.5);
+    require(config_.cmd_vel_timeout > 0.0, "~cmd_vel_timeout must be > 0");
+    config_.cmd_vel_preempts_goal = param<bool>(pnh, "cmd_vel_preempts_goal", true);
+    config_.use_wait_distance = param<bool>(pnh, "use_wait_distance", false);
+    require(!config_.use_wait_distance || config_.model == Model::CREATE_1,
+            "~use_wait_distance needs ~model create_1 (the Create 2 has no Wait Distance)");
+    config_.command_refresh = param<double>(pnh, "command_refresh", 0.2);
+    require(config_.command_refresh > 0.0, "~command_refresh must be > 0");
+
+    DriveDistanceParams& d = config_.drive_distance;
+    d.max_speed = config_.limits.max_speed;
+    d.min_speed = param<double>(pnh, "drive_distance/min_speed", 0.01);
+    require(d.min_speed > 0.0 && d.min_speed <= d.max_speed, "~drive_distance/min_speed must be in (0, ~max_speed]");
+    d.decel = param<double>(pnh, "drive_distance/decel", 0.25);
+    require(d.decel > 0.0, "~drive_distance/decel must be > 0");
+    d.tolerance = param<double>(pnh, "drive_distance/tolerance", 0.001);
+    require(d.tolerance >= 0.0 && d.tolerance <= 0.05, "~drive_distance/tolerance must be in [0, 0.05] m");
+    d.latency = param<double>(pnh, "drive_distance/latency", 0.03);
+    require(d.latency >= 0.0 && d.latency <= 1.0, "~drive_distance/latency must be in [0, 1] s");
+    d.stall_timeout = param<double>(pnh, "drive_distance/stall_timeout", 3.0);
+    require(d.stall_timeout > 0.0, "~drive_distance/stall_timeout must be > 0");
+    d.heading_gain = param<double>(pnh, "drive_distance/heading_gain", 1.0);
+    require(d.heading_gain >= 0.0, "~drive_distance/heading_gain must be >= 0");
+    d.max_heading_rate = param<double>(pnh, "drive_distance/max_heading_rate", 0.3);
+    require(d.max_heading_rate >= 0.0, "~drive_distance/max_heading_rate must be >= 0");
+
+    odom_frame_ = param<std::string>(pnh, "odom_frame", "odom");
+    base_frame_ = param<std::string>(pnh, "base_frame", "base_link");
+    require(!odom_frame_.empty() && !base_frame_.empty() && odom_frame_ != base_frame_,
+            "~odom_frame and ~base_frame must be non-empty and different");
+    publish_tf_ = param<bool>(pnh, "publish_tf", true);
+
+    link_params_.link.initial_backoff = param<double>(pnh, "reconnect_initial_delay", 0.25);
+    require(link_params_.link.initial_backoff > 0.0, "~reconnect_initial_delay must be > 0");
+    link_params_.link.max_backoff = param<double>(pnh, "reconnect_max_delay", 4.0);
+    require(link_params_.link.max_backoff >= link_params_.link.initial_backoff,
+            "~reconnect_max_delay must be >= ~reconnect_initial_delay");
+    link_params_.link.frame_timeout = param<double>(pnh, "link_timeout", 1.0);
+    require(link_params_.link.frame_timeout > 0.05, "~link_timeout must be > 0.05 s");
+    link_params_.link.start_timeout = param<double>(pnh, "start_timeout", 3.0);
+    require(link_params_.link.start_timeout > 0.1, "~start_timeout must be > 0.1 s");
+    link_params_.tick_period = param<double>(pnh, "control_period", 0.01);
+    require(link_params_.tick_period >= 0.001 && link_params_.tick_period <= 0.1,
+            "~control_period must be in [0.001, 0.1] s");
+
+    const std::string problem = validateConfig(config_);
+    require(problem.empty(), "invalid parameters: " + problem);
+  }
+
+  // ---- ROS callbacks -----------------------------------------------------------------------
+
+  void cmdVel(const geometry_msgs::Twist::ConstPtr& msg)
+  {
+    const bool finite = std::isfinite(msg->linear.x) && std::isfinite(msg->linear.y) &&
+                        std::isfinite(msg->linear.z) && std::isfinite(msg->angular.x) &&
+                        std::isfinite(msg->angular.y) && std::isfinite(msg->angular.z);
+    std::string error;
+    bool ok = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ok = core_->setVelocity(finite ? msg->linear.x : NAN, msg->angular.z, steadyNow(), &error);
+    }
+    if (!ok)
+      NODELET_ERROR_THROTTLE(1.0, "cmd_vel rejected: %s", error.c_str());
+    processOutcomes();
+    link_->requestControl();
+  }
+
+  void goalCallback(GoalHandle gh)
+  {
+    const auto goal = gh.getGoal();
+    GoalStart start;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      start = core_->startGoal(goal->distance, goal->speed, steadyNow(), pending_out_);
+      if (start.accepted)
+        goals_[start.id] = gh;
+    }
+    if (!start.accepted)
+    {
+      DriveDistanceResult r;
+      r.reason = static_cast<uint8_t>(start.reason);
+      r.message = start.message;
+      r.distance_travelled = 0.0;
+      NODELET_WARN("drive_distance goal rejected: %s", start.message.c_str());
+      gh.setRejected(r, start.message);
+    }
+    else
+    {
+      gh.setAccepted();
+    }
+    processOutcomes();  // the replaced goal, or a zero-distance goal that is already done
+    link_->requestControl();
+  }
+
+  void cancelCallback(GoalHandle gh)
+  {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& kv : goals_)
+        if (kv.second == gh)
+          core_->cancelGoal(kv.first, StopReason::PREEMPTED, "cancelled");
+    }
+    processOutcomes();
+    link_->requestControl();
+  }
+
+  bool resetHazard(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    res.success = core_->resetHazard(&res.message);
+    return true;
+  }
+
+  // ---- worker-thread side ------------------------------------------------------------------
+
+  void flushPending(Bytes& out)
+  {
+    if (!pending_out_.empty())
+    {
+      out.insert(out.end(), pending_out_.begin(), pending_out_.end());
+      pending_out_.clear();
+    }
+  }
+
+  Snapshot snapshot() const
+  {
+    Snapshot s;
+    s.sensors = core_->sensors();
+    s.pose = core_->odometry().pose();
+    s.v = core_->odometry().linearVelocity();
+    s.w = core_->odometry().angularVelocity();
+    s.latched = core_->latch().latched();
+    s.latch_reason = core_->latch().reason();
+    s.progress = core_->goalProgress();
+    s.reported_mode = core_->reportedMode();
+    return s;
+  }
+
+  void linkState(LinkState state, const std::string& reason)
+  {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      link_state_ = state;
+      if (state == LinkState::DISCONNECTED)
+        core_->onDisconnected(steadyNow());
+    }
+    if (state == LinkState::DISCONNECTED)
+      NODELET_WARN_THROTTLE(5.0, "create_driver: link to %s down: %s (retrying with backoff)",
+                            link_params_.port.c_str(), reason.c_str());
+    else if (state == LinkState::RUNNING)
+      NODELET_INFO("create_driver: robot on %s is streaming", link_params_.port.c_str());
+    processOutcomes();
+    publishMode();
+  }
+
+  void processOutcomes()
+  {
+    std::vector<GoalOutcome> outcomes;
+    std::vector<GoalHandle> handles;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      core_->takeOutcomes(outcomes);
+      for (const GoalOutcome& o : outcomes)
+      {
+        auto it = goals_.find(o.id);
+        handles.push_back(it != goals_.end() ? it->second : GoalHandle());
+        if (it != goals_.end())
+          goals_.erase(it);
+      }
+    }
+    for (size_t i = 0; i < outcomes.size(); ++i)
+    {
+      const GoalOutcome& o = outcomes[i];
+      GoalHandle& gh = handles[i];
+      if (!gh.getGoal())
+        continue;
+      DriveDistanceResult r;
+      r.distance_travelled = o.travelled;
+      r.reason = static_cast<uint8_t>(o.reason);
+      r.message = o.message;
+      if (o.reason == StopReason::REACHED)
+        gh.setSucceeded(r, o.message);
+      else if (o.reason == StopReason::PREEMPTED)
+        gh.setCanceled(r, o.message);
+      else
+      {
+        NODELET_WARN("drive_distance goal ended: %s (%s)", stopReasonName(o.reason), o.message.c_str());
+        gh.setAborted(r, o.message);
+      }
+    }
+  }
+
+  void publish(const Snapshot& s, double now)
+  {
+    const ros::Time stamp = ros::Time::now();
+    nav_msgs::Odometry odom;
+    odom.header.stamp = stamp;
+    odom.header.frame_id = odom_frame_;
+    odom.child_frame_id = base_frame_;
+    odom.pose.pose.position.x = s.pose.x;
+    odom.pose.pose.position.y = s.pose.y;
+    odom.pose.pose.orientation.z = std::sin(0.5 * s.pose.yaw);
+    odom.pose.pose.orientation.w = std::cos(0.5 * s.pose.yaw);
+    odom.twist.twist.linear.x = s.v;
+    odom.twist.twist.angular.z = s.w;
+    // Planar robot: x, y, yaw uncertain in proportion to travel; z, roll, pitch unused.
+    const double big = 1e6;
+    odom.pose.covariance = { 1e-3, 0, 0, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 0, 0, big, 0, 0, 0,
+                             0,    0, 0, big, 0, 0, 0, 0, 0, 0, big, 0, 0, 0, 0, 0, 0, 3e-3 };
+    odom.twist.covariance = { 1e-4, 0, 0, 0, 0, 0, 0, 1e-4, 0, 0, 0, 0, 0, 0, big, 0, 0, 0,
+                              0,    0, 0, big, 0, 0, 0, 0, 0, 0, big, 0, 0, 0, 0, 0, 0, 1e-3 };
+    odom_pub_.publish(odom);
+    if (tf_)
+    {
+      geometry_msgs::TransformStamped t;
+      t.header = odom.header;
+      t.child_frame_id = base_frame_;
+      t.transform.translation.x = s.pose.x;
+      t.transform.translation.y = s.pose.y;
+      t.transform.rotation = odom.pose.pose.orientation;
+      tf_->sendTransform(t);
+    }
+
+    Hazards hz;
+    hz.header.stamp = stamp;
+    hz.header.frame_id = base_frame_;
+    hz.bump_left = s.sensors.bumpLeft();
+    hz.bump_right = s.sensors.bumpRight();
+    hz.wheel_drop_left = s.sensors.wheelDropLeft();
+    hz.wheel_drop_right = s.sensors.wheelDropRight();
+    hz.wheel_drop_caster = s.sensors.wheelDropCaster();
+    hz.cliff_left = s.sensors.cliffLeft();
+    hz.cliff_front_left = s.sensors.cliffFrontLeft();
+    hz.cliff_front_right = s.sensors.cliffFrontRight();
+    hz.cliff_right = s.sensors.cliffRight();
+    hz.latched = s.latched;
+    hz.latch_reason = static_cast<uint8_t>(s.latch_reason);
+    const bool changed = hz.bump_left != last_hazards_.bump_left || hz.bump_right != last_hazards_.bump_right ||
+                         hz.wheel_drop_left != last_hazards_.wheel_drop_left ||
+                         hz.wheel_drop_right != last_hazards_.wheel_drop_right ||
+                         hz.wheel_drop_caster != last_hazards_.wheel_drop_caster ||
+                         hz.cliff_left != last_hazards_.cliff_left ||
+                         hz.cliff_front_left != last_hazards_.cliff_front_left ||
+                         hz.cliff_front_right != last_hazards_.cliff_front_right ||
+                         hz.cliff_right != last_hazards_.cliff_right || hz.latched != last_hazards_.latched ||
+                         hz.latch_reason != last_hazards_.latch_reason;
+    if (changed || now - last_hazards_time_ >= 0.1)
+    {
+      hazards_pub_.publish(hz);
+      last_hazards_ = hz;
+      last_hazards_time_ = now;
+    }
+
+    if (now - last_battery_time_ >= 1.0)
+    {
+      last_battery_time_ = now;
+      battery_pub_.publish(batteryMessage(s.sensors, stamp));
+    }
+    if (s.reported_mode != last_published_mode_)
+      publishMode();
+
+    if (s.progress.active && now - last_feedback_time_ >= 0.1)
+    {
+      last_feedback_time_ = now;
+      GoalHandle gh;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = goals_.find(s.progress.id);
+        if (it != goals_.end())
+          gh = it->second;
+      }
+      if (gh.getGoal())
+      {
+        DriveDistanceFeedback fb;
+        fb.distance_travelled = s.progress.travelled;
+        fb.distance_remaining = s.progress.remaining;
+        gh.publishFeedback(fb);
+      }
+    }
+  }
+
+  sensor_msgs::BatteryState batteryMessage(const SensorState& s, const ros::Time& stamp) const
+  {
+    sensor_msgs::BatteryState b;
+    b.header.stamp = stamp;
+    b.voltage = static_cast<float>(s.get(packet::VOLTAGE) / 1000.0);
+    b.current = static_cast<float>(s.get(packet::CURRENT) / 1000.0);
+    b.charge = static_cast<float>(s.get(packet::BATTERY_CHARGE) / 1000.0);
+    b.capacity = static_cast<float>(s.get(packet::BATTERY_CAPACITY) / 1000.0);
+    b.design_capacity = NAN;
+    b.percentage = b.capacity > 0.0f ? std::min(1.0f, b.charge / b.capacity) : NAN;
+    b.temperature = static_cast<float>(s.get(packet::TEMPERATURE));
+    switch (s.get(packet::CHARGING_STATE))
+    {
+      case 0:
+        b.power_supply_status = sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_DISCHARGING;
+        break;
+      case 1:
+      case 2:
+      case 3:
+        b.power_supply_status = sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_CHARGING;
+        break;
+      case 4:
+        b.power_supply_status = sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_NOT_CHARGING;
+        break;
+      default:
+        b.power_supply_status = sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_UNKNOWN;
+        break;
+    }
+    b.power_supply_health = s.get(packet::CHARGING_STATE) == 5 ?
+                                sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNSPEC_FAILURE :
+                                sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNKNOWN;
+    b.power_supply_technology = sensor_msgs::BatteryState::POWER_SUPPLY_TECHNOLOGY_NIMH;
+    b.present = true;
+    return b;
+  }
+
+  void publishMode()
+  {
+    Mode m;
+    int reported = -1;
+    LinkState state;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      reported = core_->haveSensors() ? core_->reportedMode() : -1;
+      state = link_state_;
+    }
+    m.header.stamp = ros::Time::now();
+    m.mode = reported < 0 ? static_cast<uint8_t>(Mode::UNKNOWN) : static_cast<uint8_t>(reported);
+    m.mode_name = reportedModeName(reported);
+    m.requested_mode = static_cast<uint8_t>(config_.mode);
+    m.link_state = linkStateToMsg(state);
+    m.link_state_name = linkStateName(state);
+    m.port = link_params_.port;
+    m.connects = static_cast<uint32_t>(link_ ? link_->stats().connects : 0);
+    std::lock_guard<std::mutex> lock(mode_pub_mutex_);
+    last_published_mode_ = reported;
+    mode_pub_.publish(m);
+  }
+
+  // ---- diagnostics -------------------------------------------------------------------------
+
+  void diagConnection(diagnostic_updater::DiagnosticStatusWrapper& st)
+  {
+    const SerialLinkStats ls = link_->stats();
+    if (ls.state == LinkState::RUNNING)
+      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "connected");
+    else if (ls.state == LinkState::DISCONNECTED)
+      st.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "disconnected: " + ls.last_error);
+    else
+      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, linkStateName(ls.state));
+    st.add("port", link_params_.port);
+    st.add("baud", link_params_.baud);
+    st.add("model", model_name_);
+    st.add("state", linkStateName(ls.state));
+    st.add("connects", ls.connects);
+    st.add("disconnects", ls.disconnects);
+    st.add("failed attempts", ls.failed_attempts);
+    st.add("last error", ls.last_error);
+    st.add("next backoff (s)", ls.backoff);
+    st.add("bytes read", ls.bytes_read);
+    st.add("bytes written", ls.bytes_written);
+  }
+
+  void diagStream(diagnostic_updater::DiagnosticStatusWrapper& st)
+  {
+    ParserCounters c;
+    uint64_t estimated = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      c = core_->parserCounters();
+      estimated = core_->stats().frames_estimated;
+    }
+    const ros::WallTime now = ros::WallTime::now();
+    const double dt = last_diag_time_.isZero() ? 0.0 : (now - last_diag_time_).toSec();
+    const double rate = dt > 0.0 ? (c.valid_frames - last_valid_frames_) / dt : 0.0;
+    const bool new_corrupt = c.corrupt_frames > last_corrupt_frames_;
+    last_diag_time_ = now;
+    last_valid_frames_ = c.valid_frames;
+    last_corrupt_frames_ = c.corrupt_frames;
+    if (new_corrupt)
+      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, "corrupt frames on the line");
+    else
+      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    st.add("valid frames", c.valid_frames);
+    st.add("corrupt frames", c.corrupt_frames);
+    st.add("total frames", c.totalFrames());
+    st.add("resyncs", c.resyncs);
+    st.add("discarded bytes", c.discarded_bytes);
+    st.add("frames estimated", estimated);
+    st.add("frame rate (Hz)", rate);
+  }
+
+  void diagControl(diagnostic_updater::DiagnosticStatusWrapper& st)
+  {
+    const SerialLinkStats ls = link_->stats();
+    DriverStats ds;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ds = core_->stats();
+    }
+    const bool new_overruns = ls.overruns > last_overruns_;
+    last_overruns_ = ls.overruns;
+    st.summary(new_overruns ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
+               new_overruns ? "control loop overruns" : "ok");
+    st.add("loop ticks", ls.ticks);
+    st.add("loop overruns", ls.overruns);
+    st.add("max lateness (s)", ls.max_lateness);
+    st.add("commands sent", ds.commands_sent);
+    st.add("rejected commands", ds.rejected_commands);
+    st.add("watchdog stops", ds.watchdog_stops);
+    st.add("start sequences", ds.start_sequences);
+  }
+
+  void diagSafety(diagnostic_updater::DiagnosticStatusWrapper& st)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const HazardLatch& l = core_->latch();
+    const int reported = core_->reportedMode();
+    if (l.latched())
+      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("hazard latched: ") + hazardName(l.reason()));
+    else
+      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    st.add("latched", l.latched());
+    st.add("latch reason", hazardName(l.reason()));
+    st.add("hazard stops", core_->stats().hazard_stops);
+    st.add("mode reported", reportedModeName(reported));
+    st.add("mode requested", oiModeName(config_.mode));
+    st.add("mode re-assertions", core_->stats().mode_reasserts);
+  }
+
+  void diagBattery(diagnostic_updater::DiagnosticStatusWrapper& st)
+  {
+    SensorState s;
+    bool have = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      s = core_->sensors();
+      have = core_->parserCounters().valid_frames > 0;
+    }
+    if (!have)
+    {
+      st.summary(diagnostic_msgs::DiagnosticStatus::STALE, "no data");
+      return;
+    }
+    const double cap = s.get(packet::BATTERY_CAPACITY);
+    const double pct = cap > 0 ? 100.0 * s.get(packet::BATTERY_CHARGE) / cap : 0.0;
+    st.summary(pct < 15.0 ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
+               pct < 15.0 ? "battery low" : "ok");
+    st.add("voltage (V)", s.get(packet::VOLTAGE) / 1000.0);
+    st.add("current (A)", s.get(packet::CURRENT) / 1000.0);
+    st.add("charge (Ah)", s.get(packet::BATTERY_CHARGE) / 1000.0);
+    st.add("capacity (Ah)", cap / 1000.0);
+    st.add("percentage", pct);
+    st.add("temperature (C)", s.get(packet::TEMPERATURE));
+    st.add("charging state", s.get(packet::CHARGING_STATE));
+  }
+
+  // Configuration.
+  DriverConfig config_;
+  SerialLinkParams link_params_;
+  std::string model_name_;
+  std::string odom_frame_, base_frame_;
+  bool publish_tf_ = true;
+
+  // Shared state (mutex_).
+  std::mutex mutex_;
+  std::unique_ptr<DriverCore> core_;
+  Bytes pending_out_;
+  std::map<uint64_t, GoalHandle> goals_;
+  LinkState link_state_ = LinkState::DISCONNECTED;
+
+  // Publication state (worker thread, except the mode which has its own lock).
+  Hazards last_hazards_;
+  double last_hazards_time_ = 0.0;
+  double last_battery_time_ = 0.0;
+  double last_feedback_time_ = 0.0;
+  std::mutex mode_pub_mutex_;
+  std::atomic<int> last_published_mode_{ -2 };
+
+  // Diagnostics state (timer thread).
+  ros::WallTime last_diag_time_;
+  uint64_t last_valid_frames_ = 0;
+  uint64_t last_corrupt_frames_ = 0;
+  uint64_t last_overruns_ = 0;
+
+  ros::Publisher odom_pub_, hazards_pub_, battery_pub_, mode_pub_;
+  ros::Subscriber cmd_sub_;
+  ros::ServiceServer reset_srv_;
+  ros::WallTimer diag_timer_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
+  std::unique_ptr<Server> server_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  std::unique_ptr<SerialLink> link_;  // last: destroyed (and its thread joined) first
+};
+
+}  // namespace create_driver
+
+PLUGINLIB_EXPORT_CLASS(create_driver::DriverNodelet, nodelet::Nodelet)

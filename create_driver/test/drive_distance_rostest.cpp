@@ -1,0 +1,120 @@
+// Done-when: drive_distance of 0.5 m over the pty ends within 5 mm of the goal (true pose from
+// create_sim); pre-emption stops the wheels; a new goal replaces the old one; bad goals are
+// rejected.
+#include <gtest/gtest.h>
+
+#include <actionlib/client/simple_action_client.h>
+
+#include <create_driver/DriveDistanceAction.h>
+
+#include "rostest_helpers.h"
+
+using namespace test_helpers;
+using Client = actionlib::SimpleActionClient<create_driver::DriveDistanceAction>;
+using create_driver::DriveDistanceGoal;
+using create_driver::DriveDistanceResult;
+
+namespace
+{
+DriveDistanceGoal goal(double d, double v)
+{
+  DriveDistanceGoal g;
+  g.distance = d;
+  g.speed = v;
+  return g;
+}
+
+// Waits until the robot is commanded to stop and the true pose has settled.
+double restingX(System& sys)
+{
+  EXPECT_TRUE(sys.waitWheelsStopped());
+  EXPECT_TRUE(sys.pose.waitMore(10));
+  return sys.pose.get().pose.position.x;
+}
+}  // namespace
+
+TEST(DriveDistance, HalfMetreWithin5mm)
+{
+  ros::NodeHandle nh;
+  System sys(nh);
+  Client client("drive_distance", true);
+  ASSERT_TRUE(sys.waitRunning());
+  ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
+  for (const double d : { 0.5, -0.5 })
+  {
+    const double x0 = restingX(sys);
+    client.sendGoal(goal(d, 0.2));
+    ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
+    EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::SUCCEEDED) << client.getState().getText();
+    const auto r = client.getResult();
+    EXPECT_EQ(r->reason, DriveDistanceResult::REACHED) << r->message;
+    EXPECT_NEAR(r->distance_travelled, d, 0.005);
+    const double x1 = restingX(sys);
+    EXPECT_NEAR(x1 - x0, d, 0.005) << "true displacement off the goal";
+  }
+}
+
+TEST(DriveDistance, CancelStopsWheels)
+{
+  ros::NodeHandle nh;
+  System sys(nh);
+  Client client("drive_distance", true);
+  ASSERT_TRUE(sys.waitRunning());
+  ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
+  const double x0 = restingX(sys);
+  client.sendGoal(goal(2.0, 0.2));
+  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; })) << "goal did not start";
+  client.cancelGoal();
+  ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
+  EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
+  EXPECT_EQ(client.getResult()->reason, DriveDistanceResult::PREEMPTED);
+  EXPECT_GT(client.getResult()->distance_travelled, 0.04);
+  EXPECT_TRUE(sys.waitWheelsStopped(10.0)) << "wheels not stopped after cancel";
+}
+
+TEST(DriveDistance, NewGoalReplacesOld)
+{
+  ros::NodeHandle nh;
+  System sys(nh);
+  Client first("drive_distance", true);
+  Client second("drive_distance", true);
+  ASSERT_TRUE(sys.waitRunning());
+  ASSERT_TRUE(first.waitForServer(ros::Duration(kTimeout)) && second.waitForServer(ros::Duration(kTimeout)));
+  const double x0 = restingX(sys);
+  first.sendGoal(goal(2.0, 0.2));
+  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
+  second.sendGoal(goal(-0.1, 0.1));
+  ASSERT_TRUE(first.waitForResult(ros::Duration(kTimeout)));
+  EXPECT_EQ(first.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
+  EXPECT_EQ(first.getResult()->reason, DriveDistanceResult::PREEMPTED);
+  ASSERT_TRUE(second.waitForResult(ros::Duration(kTimeout)));
+  EXPECT_EQ(second.getState(), actionlib::SimpleClientGoalState::SUCCEEDED);
+  EXPECT_NEAR(second.getResult()->distance_travelled, -0.1, 0.005);
+}
+
+TEST(DriveDistance, InvalidGoalsRejected)
+{
+  ros::NodeHandle nh;
+  System sys(nh);
+  Client client("drive_distance", true);
+  ASSERT_TRUE(sys.waitRunning());
+  ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
+  for (const auto& g : { goal(0.5, 0.0), goal(0.5, -0.1), goal(std::numeric_limits<double>::quiet_NaN(), 0.1) })
+  {
+    client.sendGoal(g);
+    ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
+    EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::REJECTED);
+    EXPECT_EQ(client.getResult()->reason, DriveDistanceResult::INVALID_GOAL);
+  }
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "drive_distance_test");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int r = RUN_ALL_TESTS();
+  ros::shutdown();
+  return r;
+}

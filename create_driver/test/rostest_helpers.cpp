@@ -1,0 +1,92 @@
+#include "rostest_helpers.h"
+
+#include <cmath>
+
+namespace test_helpers
+{
+bool waitFor(const std::function<bool()>& cond, double timeout_s)
+{
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::ok() && ros::WallTime::now() < end)
+  {
+    if (cond())
+      return true;
+    ros::WallDuration(0.01).sleep();
+  }
+  return cond();
+}
+
+bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix,
+               const std::string& key, double* value)
+{
+  for (const auto& st : array.status)
+  {
+    if (st.name.size() < status_suffix.size() ||
+        st.name.compare(st.name.size() - status_suffix.size(), status_suffix.size(), status_suffix) != 0)
+      continue;
+    for (const auto& kv : st.values)
+      if (kv.key == key)
+      {
+        *value = std::stod(kv.value);
+        return true;
+      }
+  }
+  return false;
+}
+
+bool System::waitRunning(double timeout_s)
+{
+  return waitFor(
+      [&] {
+        const auto m = mode.get();
+        return mode.count() > 0 && m.link_state == create_driver::Mode::LINK_RUNNING &&
+               m.mode == create_driver::Mode::SAFE && status.count() > 0 && pose.count() > 0;
+      },
+      timeout_s);
+}
+
+bool System::waitWheelsStopped(double timeout_s)
+{
+  return waitFor([&] { return status.count() > 0 && wheels() == 0.0; }, timeout_s);
+}
+
+bool System::driveUntil(double linear, double angular, const std::function<bool()>& cond, double timeout_s)
+{
+  geometry_msgs::Twist t;
+  t.linear.x = linear;
+  t.angular.z = angular;
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  ros::WallTime next_pub = ros::WallTime::now();
+  while (ros::ok() && ros::WallTime::now() < end)
+  {
+    if (cond())
+      return true;
+    if (ros::WallTime::now() >= next_pub)
+    {
+      cmd_pub.publish(t);
+      next_pub = ros::WallTime::now() + ros::WallDuration(0.1);
+    }
+    ros::WallDuration(0.01).sleep();
+  }
+  return cond();
+}
+
+double System::maxWheelOver(uint64_t n, const std::function<void()>& each_tick)
+{
+  double worst = 0.0;
+  const uint64_t target = status.count() + n;
+  waitFor([&] {
+    if (each_tick)
+      each_tick();
+    worst = std::max(worst, wheels());
+    return status.count() >= target;
+  });
+  return std::max(worst, wheels());
+}
+
+bool System::diag(const std::string& status_suffix, const std::string& key, double* value)
+{
+  return waitFor([&] { return diagnostics.count() > 0 && diagValue(diagnostics.get(), status_suffix, key, value); });
+}
+
+}  // namespace test_helpers

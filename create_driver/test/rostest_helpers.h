@@ -1,0 +1,111 @@
+// Helpers shared by the rostest clients: waiting for conditions (never fixed sleeps), keeping
+// the latest message of a topic, and reading values out of /diagnostics.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <string>
+
+#include <create_driver/Hazards.h>
+#include <create_driver/Mode.h>
+#include <create_driver/SimStatus.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <ros/ros.h>
+
+namespace test_helpers
+{
+/// Generous default timeout for a loaded 2-core machine, s.
+constexpr double kTimeout = 60.0;
+
+/// @brief Polls @p cond (callbacks run on an AsyncSpinner) until it holds or @p timeout_s passes.
+bool waitFor(const std::function<bool()>& cond, double timeout_s = kTimeout);
+
+/// @brief Keeps the latest message of a topic and how many arrived.
+template <class M>
+class Latest
+{
+public:
+  Latest(ros::NodeHandle& nh, const std::string& topic)
+  {
+    sub_ = nh.subscribe<M>(topic, 50, [this](const typename M::ConstPtr& m) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      msg_ = *m;
+      ++count_;
+      if (hook_)
+        hook_(*m);
+    });
+  }
+  M get() const
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return msg_;
+  }
+  uint64_t count() const
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return count_;
+  }
+  /// Called for every message (under the lock).
+  void setHook(const std::function<void(const M&)>& hook)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    hook_ = hook;
+  }
+  /// Waits for @p n more messages.
+  bool waitMore(uint64_t n, double timeout_s = kTimeout)
+  {
+    const uint64_t target = count() + n;
+    return waitFor([&] { return count() >= target; }, timeout_s);
+  }
+
+private:
+  mutable std::mutex mutex_;
+  ros::Subscriber sub_;
+  M msg_;
+  uint64_t count_ = 0;
+  std::function<void(const M&)> hook_;
+};
+
+/// @brief Value of @p key in the diagnostic status whose name ends with @p status_suffix.
+/// @return false if not present in @p array
+bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix,
+               const std::string& key, double* value);
+
+/// @brief Common fixture state: the driver's mode, the simulator's status and true pose.
+struct System
+{
+  explicit System(ros::NodeHandle& nh)
+    : mode(nh, "mode"), status(nh, "create_sim/status"), pose(nh, "true_pose"), hazards(nh, "hazards"),
+      diagnostics(nh, "/diagnostics")
+  {
+    cmd_pub = nh.advertise<geometry_msgs::Twist>("cmd_vel", 10);
+  }
+  /// Waits until the driver reports a running link and a Safe robot.
+  bool waitRunning(double timeout_s = kTimeout);
+  /// Waits until the simulated wheels are commanded to stop.
+  bool waitWheelsStopped(double timeout_s = kTimeout);
+  /// Publishes cmd_vel at 10 Hz until @p cond holds.
+  bool driveUntil(double linear, double angular, const std::function<bool()>& cond, double timeout_s = kTimeout);
+  /// Largest |commanded wheel speed| over the next @p n simulator status messages.
+  double maxWheelOver(uint64_t n, const std::function<void()>& each_tick = {});
+  /// Latest diagnostic value (waits for a /diagnostics message containing it).
+  bool diag(const std::string& status_suffix, const std::string& key, double* value);
+  double wheels() const
+  {
+    const auto s = status.get();
+    return std::max(std::fabs(s.left_wheel_velocity), std::fabs(s.right_wheel_velocity));
+  }
+
+  Latest<create_driver::Mode> mode;
+  Latest<create_driver::SimStatus> status;
+  Latest<geometry_msgs::PoseStamped> pose;
+  Latest<create_driver::Hazards> hazards;
+  Latest<diagnostic_msgs::DiagnosticArray> diagnostics;
+  ros::Publisher cmd_pub;
+};
+
+}  // namespace test_helpers

@@ -1,0 +1,417 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "create_driver/sim_robot.h"
+#include "create_driver/stream_parser.h"
+
+using create_driver::Bytes;
+namespace cd = create_driver;
+
+namespace
+{
+void send(cd::SimRobot& r, const Bytes& b)
+{
+  r.receive(b.data(), b.size());
+}
+
+Bytes output(cd::SimRobot& r)
+{
+  Bytes out;
+  r.takeOutput(out);
+  return out;
+}
+
+// Advances in 10 ms steps (step() caps a single call at 1 s, like a stalled host).
+void advance(cd::SimRobot& r, double seconds)
+{
+  const int n = static_cast<int>(seconds / 0.01);
+  for (int i = 0; i < n; ++i)
+    r.step(0.01);
+  r.step(seconds - n * 0.01);
+}
+
+cd::SimRobot safeRobot(cd::SimParams p = cd::SimParams())
+{
+  cd::SimRobot r(p);
+  send(r, { 128, 131 });
+  return r;
+}
+}  // namespace
+
+TEST(SimRobot, OffModeIgnoresEverythingButStart)
+{
+  cd::SimRobot r;
+  EXPECT_EQ(r.mode(), cd::OiMode::OFF);
+  send(r, cd::encodeDriveDirect(200, 200));
+  send(r, { 142, 7 });
+  r.step(0.1);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  EXPECT_TRUE(output(r).empty());
+  send(r, { 128 });
+  EXPECT_EQ(r.mode(), cd::OiMode::PASSIVE);
+}
+
+TEST(SimRobot, PassiveIgnoresActuators)
+{
+  cd::SimRobot r;
+  send(r, { 128 });
+  send(r, cd::encodeDrive(200, cd::oi::RADIUS_STRAIGHT));
+  r.step(0.5);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  EXPECT_NEAR(r.truePose().x, 0.0, 1e-12);
+  // Sensors still work in Passive.
+  send(r, { 142, 35 });
+  EXPECT_EQ(output(r), (Bytes{ 1 }));
+}
+
+TEST(SimRobot, ModeTransitions)
+{
+  cd::SimRobot r;
+  send(r, { 128, 131 });
+  EXPECT_EQ(r.mode(), cd::OiMode::SAFE);
+  send(r, { 132 });
+  EXPECT_EQ(r.mode(), cd::OiMode::FULL);
+  send(r, cd::encodeDriveDirect(100, 100));
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.1);
+  send(r, { 128 });  // Start returns to Passive and stops the wheels
+  EXPECT_EQ(r.mode(), cd::OiMode::PASSIVE);
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.0);
+  send(r, { 130 });  // Control = Safe
+  EXPECT_EQ(r.mode(), cd::OiMode::SAFE);
+}
+
+TEST(SimRobot, DriveStraightAndDirect)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeDrive(200, cd::oi::RADIUS_STRAIGHT));
+  r.step(1.0);
+  EXPECT_NEAR(r.truePose().x, 0.2, 1e-9);
+  EXPECT_NEAR(r.truePose().y, 0.0, 1e-9);
+  send(r, cd::encodeDriveDirect(-100, -100));  // right, left
+  r.step(1.0);
+  EXPECT_NEAR(r.truePose().x, 0.1, 1e-9);
+}
+
+TEST(SimRobot, SpecialRadiiTurnInPlace)
+{
+  cd::SimParams p;
+  cd::SimRobot r = safeRobot(p);
+  // Counter-clockwise in place at 129 mm/s per wheel: w = 2*0.129/0.258 = 1 rad/s.
+  send(r, cd::encodeDrive(129, cd::oi::RADIUS_TURN_CCW));
+  r.step(0.5);
+  EXPECT_NEAR(r.truePose().yaw, 0.5, 1e-9);
+  EXPECT_NEAR(r.truePose().x, 0.0, 1e-12);
+  send(r, cd::encodeDrive(129, cd::oi::RADIUS_TURN_CW));
+  r.step(0.5);
+  EXPECT_NEAR(r.truePose().yaw, 0.0, 1e-9);
+}
+
+TEST(SimRobot, ArcFollowsRadius)
+{
+  cd::SimRobot r = safeRobot();
+  // Radius 500 mm, 200 mm/s: quarter circle (pi/2 * 0.5 m) takes 3.927 s, ends at (0.5, 0.5).
+  send(r, cd::encodeDrive(200, 500));
+  advance(r, M_PI / 2 * 0.5 / 0.2);
+  EXPECT_NEAR(r.truePose().x, 0.5, 1e-3);
+  EXPECT_NEAR(r.truePose().y, 0.5, 1e-3);
+  EXPECT_NEAR(r.truePose().yaw, M_PI / 2, 1e-3);
+}
+
+TEST(SimRobot, SensorsAndQueryListReplies)
+{
+  cd::SimRobot r = safeRobot();
+  r.setContact(cd::bumps::BUMP_LEFT);
+  send(r, { 142, 7 });
+  EXPECT_EQ(output(r), (Bytes{ 0x02 }));
+  send(r, { 142, 0 });
+  EXPECT_EQ(output(r).size(), 26u);
+  send(r, { 142, 6 });
+  EXPECT_EQ(output(r).size(), 52u);
+  send(r, { 142, 43 });  // not a Create 1 packet: no reply
+  EXPECT_TRUE(output(r).empty());
+  send(r, { 149, 2, 7, 35 });
+  EXPECT_EQ(output(r), (Bytes{ 0x02, 2 }));
+}
+
+TEST(SimRobot, DistanceAndAngleResetOnReadKeepingRemainder)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeDriveDirect(150, 150));
+  r.step(0.01);  // 1.5 mm
+  cd::ReplyParser p;
+  ASSERT_TRUE(p.expect({ 19 }));
+  send(r, { 142, 19 });
+  Bytes out = output(r);
+  p.feed(out.data(), out.size());
+  ASSERT_TRUE(p.complete());
+  EXPECT_EQ(p.state().distanceMm(), 1);
+  r.step(0.01);  // another 1.5 mm: 2 reported (0.5 remainder + 1.5)
+  p.expect({ 19 });
+  send(r, { 142, 19 });
+  out = output(r);
+  p.feed(out.data(), out.size());
+  EXPECT_EQ(p.state().distanceMm(), 2);
+  // Reading again without motion: 0.
+  p.expect({ 19 });
+  send(r, { 142, 19 });
+  out = output(r);
+  p.feed(out.data(), out.size());
+  EXPECT_EQ(p.state().distanceMm(), 0);
+}
+
+TEST(SimRobot, StreamFramesEvery15msWithValidChecksum)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeStream({ 7, 19, 20, 35 }));
+  r.step(0.15);  // 10 frames
+  const Bytes out = output(r);
+  // Each frame: [19][n=10][7][b][19][hi][lo][20][hi][lo][35][mode][checksum] => 13 bytes.
+  ASSERT_EQ(out.size(), 130u);
+  for (size_t f = 0; f < 10; ++f)
+  {
+    const uint8_t* fr = out.data() + f * 13;
+    EXPECT_EQ(fr[0], 19);
+    EXPECT_EQ(fr[1], 10);
+    uint8_t sum = 0;
+    for (int i = 0; i < 13; ++i)
+      sum = static_cast<uint8_t>(sum + fr[i]);
+    EXPECT_EQ(sum, 0) << "frame " << f;
+    EXPECT_EQ(fr[2], 7);
+    EXPECT_EQ(fr[4], 19);
+    EXPECT_EQ(fr[7], 20);
+    EXPECT_EQ(fr[10], 35);
+    EXPECT_EQ(fr[11], 2);  // Safe
+  }
+  cd::StreamParser p;
+  p.setExpectedIds({ 7, 19, 20, 35 });
+  EXPECT_EQ(p.feed(out.data(), out.size()), 10u);
+  EXPECT_EQ(p.state().oiMode(), 2);
+}
+
+TEST(SimRobot, PauseAndResumeStream)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeStream({ 7 }));
+  r.step(0.03);
+  EXPECT_FALSE(output(r).empty());
+  send(r, { 150, 0 });
+  r.step(0.1);
+  EXPECT_TRUE(output(r).empty());
+  EXPECT_FALSE(r.streaming());
+  send(r, { 150, 1 });
+  r.step(0.031);
+  EXPECT_EQ(output(r).size(), 2 * 5u);  // [19][2][7][x][ck]
+}
+
+TEST(SimRobot, SafeModeFallsBackToPassiveOnWheelDrop)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeDriveDirect(100, 100));
+  r.step(0.1);
+  r.setWheelDrops(cd::bumps::WHEEL_DROP_LEFT);
+  r.step(0.01);
+  EXPECT_EQ(r.mode(), cd::OiMode::PASSIVE);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+}
+
+TEST(SimRobot, SafeModeCliffOnlyWhenMovingForward)
+{
+  cd::SimRobot r = safeRobot();
+  r.setCliffs(0x02);
+  r.step(0.1);  // standing still on a cliff: stays Safe
+  EXPECT_EQ(r.mode(), cd::OiMode::SAFE);
+  send(r, cd::encodeDrive(-100, cd::oi::RADIUS_STRAIGHT));  // backing away is allowed
+  r.step(0.1);
+  EXPECT_EQ(r.mode(), cd::OiMode::SAFE);
+  EXPECT_LT(r.truePose().x, 0.0);
+  send(r, cd::encodeDrive(100, cd::oi::RADIUS_STRAIGHT));  // forward over the edge: no
+  r.step(0.01);
+  EXPECT_EQ(r.mode(), cd::OiMode::PASSIVE);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+}
+
+TEST(SimRobot, FullModeHasNoSafety)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, { 132 });
+  r.setCliffs(0x0F);
+  r.setWheelDrops(cd::bumps::WHEEL_DROP_CASTER);
+  send(r, cd::encodeDriveDirect(100, 100));
+  r.step(0.1);
+  EXPECT_EQ(r.mode(), cd::OiMode::FULL);
+  EXPECT_NEAR(r.truePose().x, 0.01, 1e-9);
+}
+
+TEST(SimRobot, WaitDistanceBlocksInputUntilCovered)
+{
+  cd::SimRobot r = safeRobot();
+  Bytes script = cd::encodeDrive(100, cd::oi::RADIUS_STRAIGHT);
+  const Bytes wait = cd::encodeWaitDistance(50);
+  script.insert(script.end(), wait.begin(), wait.end());
+  const Bytes stop = cd::encodeDrive(0, cd::oi::RADIUS_STRAIGHT);
+  script.insert(script.end(), stop.begin(), stop.end());
+  send(r, script);
+  EXPECT_TRUE(r.waiting());
+  // Input arriving during the wait is not executed (a Sensors request gets no reply yet).
+  send(r, { 142, 35 });
+  r.step(0.2);  // 20 mm
+  EXPECT_TRUE(r.waiting());
+  EXPECT_TRUE(output(r).empty());
+  r.step(0.4);
+  EXPECT_FALSE(r.waiting());
+  EXPECT_NEAR(r.truePose().x, 0.05, 0.0015);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  EXPECT_EQ(output(r), (Bytes{ 2 }));  // the queued request ran after the wait
+}
+
+TEST(SimRobot, WaitDistanceHangsWhenHeldBack)
+{
+  cd::SimRobot r = safeRobot();
+  r.setContact(cd::bumps::BUMP_RIGHT);  // pressed against an obstacle
+  Bytes script = cd::encodeDrive(100, cd::oi::RADIUS_STRAIGHT);
+  const Bytes wait = cd::encodeWaitDistance(50);
+  script.insert(script.end(), wait.begin(), wait.end());
+  send(r, script);
+  send(r, cd::encodeDrive(0, cd::oi::RADIUS_STRAIGHT));  // the host tries to stop it
+  advance(r, 5.0);
+  EXPECT_TRUE(r.waiting());
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.1) << "a stop got through Wait Distance";
+  r.setContact(0);
+  r.step(1.0);
+  EXPECT_FALSE(r.waiting());
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+}
+
+TEST(SimRobot, WaitDistanceNegative)
+{
+  cd::SimRobot r = safeRobot();
+  Bytes script = cd::encodeDrive(-100, cd::oi::RADIUS_STRAIGHT);
+  const Bytes wait = cd::encodeWaitDistance(-30);
+  script.insert(script.end(), wait.begin(), wait.end());
+  send(r, script);
+  r.step(0.5);
+  EXPECT_FALSE(r.waiting());
+}
+
+TEST(SimRobot, StreamContinuesDuringWait)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeStream({ 19 }));
+  Bytes script = cd::encodeDrive(100, cd::oi::RADIUS_STRAIGHT);
+  const Bytes wait = cd::encodeWaitDistance(100);
+  script.insert(script.end(), wait.begin(), wait.end());
+  send(r, script);
+  r.step(0.3);
+  cd::StreamParser p;
+  const Bytes out = output(r);
+  EXPECT_EQ(p.feed(out.data(), out.size()), 20u);
+}
+
+TEST(SimRobot, ScriptsPlayAndShow)
+{
+  cd::SimRobot r = safeRobot();
+  Bytes script = { 152, 5 };
+  const Bytes drive = cd::encodeDriveDirect(50, 50);
+  script.insert(script.end(), drive.begin(), drive.end());
+  send(r, script);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  send(r, { 154 });
+  Bytes expected = { 5 };
+  expected.insert(expected.end(), drive.begin(), drive.end());
+  EXPECT_EQ(output(r), expected);
+  send(r, { 153 });
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.05);
+}
+
+TEST(SimRobot, ContactSetsBumpBitsAndBlocksForwardMotion)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeDriveDirect(200, 200));
+  r.step(0.5);
+  const double x = r.truePose().x;
+  r.setContact(cd::bumps::BUMP_LEFT | cd::bumps::BUMP_RIGHT);
+  r.step(0.5);
+  EXPECT_NEAR(r.truePose().x, x, 1e-12);
+  EXPECT_EQ(r.sensorState().get(7), 0x03);
+  send(r, cd::encodeDriveDirect(-200, -200));  // backing away works
+  r.step(0.5);
+  EXPECT_LT(r.truePose().x, x);
+}
+
+TEST(SimRobot, Create2EncodersWrap)
+{
+  cd::SimParams p;
+  p.model = cd::Model::CREATE_2;
+  cd::SimRobot r = safeRobot(p);
+  EXPECT_DOUBLE_EQ(r.wheelBase(), 0.235);
+  send(r, cd::encodeDriveDirect(-500, -500));
+  r.step(1.0);  // -0.5 m = -1124.6 counts from 0: wraps below zero
+  const int left = r.sensorState().get(43);
+  EXPECT_GT(left, 60000);
+  const double counts = 0.5 / (M_PI * 0.072 / 508.8);
+  EXPECT_NEAR(65536 - left, counts, 1.5);
+  // Create 2 specific commands are known, Create 1 scripts are not.
+  send(r, { 173 });
+  EXPECT_EQ(r.mode(), cd::OiMode::OFF);
+}
+
+TEST(SimRobot, SlipAndNoiseAreDeterministicForASeed)
+{
+  cd::SimParams p;
+  p.slip_left = 0.05;
+  p.slip_noise = 0.02;
+  p.odom_noise = 0.05;
+  p.seed = 7;
+  auto run = [&](uint32_t seed) {
+    p.seed = seed;
+    cd::SimRobot r = safeRobot(p);
+    send(r, cd::encodeDriveDirect(200, 200));
+    send(r, cd::encodeStream({ 19 }));
+    advance(r, 2.0);
+    return r.truePose();
+  };
+  const cd::Pose2D a = run(7);
+  const cd::Pose2D b = run(7);
+  const cd::Pose2D c = run(8);
+  EXPECT_DOUBLE_EQ(a.x, b.x);
+  EXPECT_DOUBLE_EQ(a.yaw, b.yaw);
+  EXPECT_NE(a.x, c.x);
+  // Left wheel slips more: the robot veers left and covers less than 0.4 m.
+  EXPECT_LT(a.x, 0.4);
+  EXPECT_GT(a.yaw, 0.0);
+}
+
+TEST(SimRobot, InjectIntoNextFrameCorruptsIt)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeStream({ 7, 19, 20 }));
+  r.injectIntoNextFrame({ 0xAA, 0xBB, 0xCC });
+  r.step(0.045);  // 3 frames, the first one corrupted
+  const Bytes out = output(r);
+  cd::StreamParser p;
+  p.setExpectedIds({ 7, 19, 20 });
+  EXPECT_EQ(p.feed(out.data(), out.size()), 2u);
+  EXPECT_GE(p.counters().corrupt_frames, 1u);
+}
+
+TEST(SimRobot, UnknownBytesAreIgnored)
+{
+  cd::SimRobot r = safeRobot();
+  send(r, { 0x00, 0x05, 200, 131 });
+  EXPECT_EQ(r.ignoredBytes(), 3u);
+  EXPECT_EQ(r.mode(), cd::OiMode::SAFE);
+}
+
+TEST(SimRobot, SplitCommandsAcrossReceives)
+{
+  cd::SimRobot r = safeRobot();
+  const Bytes d = cd::encodeDriveDirect(120, 80);
+  for (uint8_t b : d)
+  {
+    EXPECT_EQ(r.commandedLeft(), 0.0);
+    r.receive(&b, 1);
+  }
+  EXPECT_DOUBLE_EQ(r.commandedRight(), 0.12);
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.08);
+}

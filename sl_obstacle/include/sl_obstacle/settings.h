@@ -1,0 +1,24 @@
+/// @file settings.h
+/// @brief All parameters of the obstacle pipeline, validated together.
+#ifndef SL_OBSTACLE_SETTINGS_H
+#define SL_OBSTACLE_SETTINGS_H
+
+#include <string>
+
+#include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/volume_checker.h"
+
+namespace sl_obstacle
+{
+/// Analysis and decision parameters; validate() also checks the relations between the two.
+struct Settings
+{
+  CheckerParams checker;    ///< working volume, coverage, noise rejection
+  DecisionParams decision;  ///< margins, speeds, turning, staleness
+
+  /// @return empty when valid, else a message starting with the offending parameter's name.
+  std::string validate() const;
+};
+}  // namespace sl_obstacle
+
+#endif  // SL_OBSTACLE_SETTINGS_H

@@ -1,0 +1,582 @@
+// The sl_obstacle/obstacle nodelet: ROS wrapper around the core (VolumeChecker, DecisionMaker).
+//
+// Subscribes `points` (through a tf2 message filter into ~target_frame), publishes `obstacle_status`
+// and `markers`, commands the robot through create_driver's `drive_distance` action and/or `cmd_vel`.
+// All callbacks share one mutex; nothing blocks in onInit.
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <actionlib/client/simple_action_client.h>
+#include <dynamic_reconfigure/server.h>
+#include <geometry_msgs/Twist.h>
+#include <message_filters/subscriber.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <create_driver/DriveDistanceAction.h>
+
+#include "cloud_conversion.h"
+#include "params.h"
+#include "sl_obstacle/ObstacleStatus.h"
+#include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/velocity_goal.h"
+#include "sl_obstacle/volume_checker.h"
+
+namespace sl_obstacle
+{
+class ObstacleNodelet : public nodelet::Nodelet
+{
+public:
+  ObstacleNodelet() = default;
+  ~ObstacleNodelet() override;
+
+private:
+  using Cloud = sensor_msgs::PointCloud2;
+  using Client = actionlib::SimpleActionClient<create_driver::DriveDistanceAction>;
+
+  void onInit() override;
+  void onCloud(const Cloud::ConstPtr& cloud);
+  void processCloud(const Cloud::ConstPtr& cloud);
+  void onFilterFailure(const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason);
+  void onTimer(const ros::TimerEvent& event);
+  void onReconfigure(ObstacleConfig& config, uint32_t level);
+
+  /// Runs one decision step at @p now and carries it out. Caller holds mutex_.
+  void decide(const ros::Time& now);
+  void execute(const Decision& d, const ros::Time& now);
+  MotionState motion() const;
+  void sendGoal(double distance, double speed);
+  void cancelGoal();
+  void publishTwist(double linear, double angular);
+  void publishStatus(const Decision& d, const ros::Time& now);
+  void publishMarkers(const ros::Time& stamp);
+
+  std::recursive_mutex mutex_;
+  NodeletParams params_;
+  std::unique_ptr<VolumeChecker> checker_;
+  std::unique_ptr<DecisionMaker> decider_;
+  VelocityGoal velocity_goal_;
+  std::vector<Point> points_;
+  bool have_frame_ = false;
+  ros::Time last_cloud_stamp_;
+
+  ros::NodeHandle nh_;
+  ros::NodeHandle pnh_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<message_filters::Subscriber<Cloud>> cloud_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<Cloud>> tf_filter_;
+  ros::Publisher status_pub_;
+  ros::Publisher markers_pub_;
+  ros::Publisher cmd_vel_pub_;
+  ros::Timer timer_;
+  std::unique_ptr<dynamic_reconfigure::Server<ObstacleConfig>> reconfigure_;
+  boost::recursive_mutex reconfigure_mutex_;
+  ObstacleConfig config_;
+  bool reconfigure_ready_ = false;
+
+  std::unique_ptr<Client> client_;
+  bool goal_active_ = false;
+  double goal_remaining_ = 0.0;
+  double goal_speed_ = 0.0;
+  unsigned goal_seq_ = 0;
+  bool moving_ = false;  // the last twist published was non-zero
+
+  ObstacleStatus status_;
+  visualization_msgs::MarkerArray markers_;
+};
+
+ObstacleNodelet::~ObstacleNodelet()
+{
+  // Stop callbacks before the members they use go away.
+  timer_.stop();
+  cloud_sub_.reset();
+  tf_filter_.reset();
+}
+
+void ObstacleNodelet::onInit()
+{
+  nh_ = getNodeHandle();
+  pnh_ = getPrivateNodeHandle();
+  try
+  {
+    params_ = loadParams(pnh_);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    NODELET_FATAL("%s", e.what());
+    throw;
+  }
+  config_ = params_.config;
+  checker_ = std::make_unique<VolumeChecker>(params_.settings.checker);
+  decider_ = std::make_unique<DecisionMaker>(params_.settings.decision);
+  status_.header.frame_id = params_.target_frame;
+  status_.sector_free_distance.resize(static_cast<std::size_t>(params_.settings.checker.sectors));
+
+  status_pub_ = nh_.advertise<ObstacleStatus>("obstacle_status", 10);
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
+  cmd_vel_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 1);
+  if (params_.command_mode == CommandMode::ACTION)
+  {
+    client_ = std::make_unique<Client>(nh_, "drive_distance", false);
+  }
+
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh_);
+  cloud_sub_ = std::make_unique<message_filters::Subscriber<Cloud>>();
+  cloud_sub_->subscribe(nh_, "points", 2);
+  cloud_sub_->registerCallback(&ObstacleNodelet::onCloud, this);
+  tf_filter_ = std::make_unique<tf2_ros::MessageFilter<Cloud>>(*tf_buffer_, params_.target_frame, 5, nh_);
+  tf_filter_->registerCallback(&ObstacleNodelet::processCloud, this);
+  tf_filter_->registerFailureCallback(
+      [this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason) { onFilterFailure(cloud, reason); });
+
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ObstacleConfig>>(reconfigure_mutex_, pnh_);
+  reconfigure_->setCallback([this](ObstacleConfig& config, uint32_t level) { onReconfigure(config, level); });
+  reconfigure_ready_ = true;
+
+  timer_ = nh_.createTimer(ros::Duration(1.0 / params_.control_rate), &ObstacleNodelet::onTimer, this);
+  NODELET_INFO("obstacle: volume W %.3f x H %.3f x B %.3f m in %s, command_mode %s",
+               params_.settings.checker.volume.width, params_.settings.checker.volume.height,
+               params_.settings.checker.volume.depth, params_.target_frame.c_str(),
+               params_.command_mode == CommandMode::ACTION ? "action" : "cmd_vel");
+}
+
+void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  if (!reconfigure_ready_)
+  {
+    // The server's first call carries the start-up parameters, already checked by loadParams().
+    config = config_;
+    return;
+  }
+  const std::string e = validateConfig(config);
+  if (!e.empty())
+  {
+    NODELET_ERROR("reconfigure refused, keeping the previous values: %s", e.c_str());
+    config = config_;
+    return;
+  }
+  const Settings settings = toSettings(config);
+  checker_->setParams(settings.checker);
+  decider_->setParams(settings.decision);
+  status_.sector_free_distance.resize(static_cast<std::size_t>(settings.checker.sectors));
+  config_ = config;
+  params_.config = config;
+  params_.settings = settings;
+  NODELET_INFO("reconfigured");
+}
+
+void ObstacleNodelet::onCloud(const Cloud::ConstPtr& cloud)
+{
+  if (cloud->header.frame_id == params_.target_frame)
+  {
+    processCloud(cloud);  // already in the working-volume frame: no transform needed
+  }
+  else
+  {
+    tf_filter_->add(cloud);
+  }
+}
+
+void ObstacleNodelet::onFilterFailure(const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason)
+{
+  NODELET_WARN_THROTTLE(2.0, "dropping cloud in frame '%s' at %.3f: no transform to '%s' (%s)",
+                        cloud->header.frame_id.c_str(), cloud->header.stamp.toSec(), params_.target_frame.c_str(),
+                        reason == tf2_ros::filter_failure_reasons::OutTheBack ? "older than the tf buffer"
+                        : reason == tf2_ros::filter_failure_reasons::EmptyFrameID ? "empty frame_id"
+                                                                                   : "transform unavailable");
+}
+
+void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  geometry_msgs::Transform transform;
+  transform.rotation.w = 1.0;
+  if (cloud->header.frame_id != params_.target_frame)
+  {
+    try
+    {
+      transform = tf_buffer_->lookupTransform(params_.target_frame, cloud->header.frame_id, cloud->header.stamp)
+                      .transform;
+    }
+    catch (const tf2::TransformException& e)
+    {
+      NODELET_WARN_THROTTLE(2.0, "dropping cloud: %s", e.what());
+      return;
+    }
+  }
+  const std::string e = convertCloud(*cloud, transform, points_);
+  if (!e.empty())
+  {
+    NODELET_ERROR_THROTTLE(2.0, "dropping cloud in frame '%s': %s", cloud->header.frame_id.c_str(), e.c_str());
+    return;
+  }
+  if (have_frame_ &&
+      (cloud->header.stamp - last_cloud_stamp_).toSec() > params_.settings.decision.stale_timeout)
+  {
+    checker_->reset();  // after a gap the persistence history means nothing
+  }
+  have_frame_ = true;
+  last_cloud_stamp_ = cloud->header.stamp;
+  const VolumeResult& result = checker_->analyze(points_);
+  if (result.invalid_points > 0)
+  {
+    NODELET_WARN_THROTTLE(10.0, "cloud has %u points with NaN/inf coordinates (ignored)", result.invalid_points);
+  }
+  decider_->onFrame(summarize(result, cloud->header.stamp.toSec()));
+  decide(ros::Time::now());
+  if (markers_pub_.getNumSubscribers() > 0)
+  {
+    publishMarkers(cloud->header.stamp);
+  }
+}
+
+void ObstacleNodelet::onTimer(const ros::TimerEvent& /*event*/)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  decide(ros::Time::now());
+}
+
+MotionState ObstacleNodelet::motion() const
+{
+  MotionState m;
+  if (params_.command_mode == CommandMode::ACTION)
+  {
+    m.driver_ready = client_ && client_->isServerConnected();
+    m.driver_detail = "drive_distance action server not connected";
+    m.goal_active = goal_active_;
+    m.goal_remaining = goal_remaining_;
+    m.goal_speed = goal_speed_;
+  }
+  else
+  {
+    m.driver_ready = cmd_vel_pub_.getNumSubscribers() > 0;
+    m.driver_detail = "nobody subscribes cmd_vel";
+    m.goal_active = velocity_goal_.active();
+    m.goal_remaining = velocity_goal_.remaining();
+    m.goal_speed = velocity_goal_.speed();
+  }
+  return m;
+}
+
+void ObstacleNodelet::decide(const ros::Time& now)
+{
+  if (params_.command_mode == CommandMode::CMD_VEL && velocity_goal_.update(now.toSec()))
+  {
+    decider_->onGoalEnded(GoalEnd::REACHED, now.toSec(), "open-loop goal done");
+  }
+  const Decision& d = decider_->step(now.toSec(), motion());
+  execute(d, now);
+  publishStatus(d, now);
+}
+
+void ObstacleNodelet::execute(const Decision& d, const ros::Time& now)
+{
+  switch (d.command)
+  {
+    case Command::NONE:
+      if (params_.command_mode == CommandMode::CMD_VEL && velocity_goal_.active())
+      {
+        publishTwist(velocity_goal_.speed(), 0.0);  // keeps the driver's watchdog fed
+      }
+      break;
+    case Command::STOP:
+      cancelGoal();
+      velocity_goal_.stop();
+      if (moving_)
+      {
+        publishTwist(0.0, 0.0);
+      }
+      break;
+    case Command::DRIVE:
+      if (params_.command_mode == CommandMode::ACTION)
+      {
+        if (moving_)
+        {
+          publishTwist(0.0, 0.0);  // end a turn before the goal takes over
+        }
+        sendGoal(d.distance, d.speed);
+      }
+      else
+      {
+        velocity_goal_.start(d.distance, d.speed, now.toSec());
+        publishTwist(d.speed, 0.0);
+      }
+      break;
+    case Command::TURN:
+      cancelGoal();
+      velocity_goal_.stop();
+      publishTwist(0.0, d.angular_speed);
+      break;
+  }
+}
+
+void ObstacleNodelet::sendGoal(double distance, double speed)
+{
+  if (!client_)
+  {
+    return;
+  }
+  create_driver::DriveDistanceGoal goal;
+  goal.distance = distance;
+  goal.speed = speed;
+  const unsigned seq = ++goal_seq_;
+  goal_active_ = true;
+  goal_remaining_ = distance;
+  goal_speed_ = speed;
+  client_->sendGoal(
+      goal,
+      [this, seq](const actionlib::SimpleClientGoalState& state, const create_driver::DriveDistanceResultConstPtr& r) {
+        std::lock_guard<std::recursive_mutex> lock(mutex_);
+        if (seq != goal_seq_ || !goal_active_)
+        {
+          return;  // a goal we replaced or cancelled ourselves
+        }
+        goal_active_ = false;
+        GoalEnd end = GoalEnd::FAILED;
+        std::string what = "goal ended in state " + state.toString();
+        if (r)
+        {
+          using R = create_driver::DriveDistanceResult;
+          switch (r->reason)
+          {
+            case R::REACHED: end = GoalEnd::REACHED; what = "reached"; break;
+            case R::PREEMPTED: end = GoalEnd::CANCELLED; what = "pre-empted"; break;
+            case R::BUMPER: end = GoalEnd::HAZARD; what = "bumper"; break;
+            case R::CLIFF: end = GoalEnd::HAZARD; what = "cliff"; break;
+            case R::WHEEL_DROP: end = GoalEnd::HAZARD; what = "wheel drop"; break;
+            case R::TIMEOUT: end = GoalEnd::FAILED; what = "timeout"; break;
+            case R::DISCONNECTED: end = GoalEnd::FAILED; what = "disconnected"; break;
+            case R::INVALID_GOAL: end = GoalEnd::FAILED; what = "invalid goal"; break;
+            default: break;
+          }
+          if (!r->message.empty())
+          {
+            what += ": " + r->message;
+          }
+        }
+        if (end == GoalEnd::FAILED)
+        {
+          NODELET_WARN_THROTTLE(5.0, "drive_distance goal failed (%s)", what.c_str());
+        }
+        const ros::Time now = ros::Time::now();
+        decider_->onGoalEnded(end, now.toSec(), what);
+        decide(now);
+      },
+      Client::SimpleActiveCallback(),
+      [this, seq](const create_driver::DriveDistanceFeedbackConstPtr& feedback) {
+        std::lock_guard<std::recursive_mutex> lock(mutex_);
+        if (seq == goal_seq_ && goal_active_)
+        {
+          goal_remaining_ = feedback->distance_remaining;
+        }
+      });
+}
+
+void ObstacleNodelet::cancelGoal()
+{
+  if (!goal_active_)
+  {
+    return;
+  }
+  goal_active_ = false;
+  ++goal_seq_;
+  if (client_)
+  {
+    client_->cancelGoal();
+  }
+}
+
+void ObstacleNodelet::publishTwist(double linear, double angular)
+{
+  geometry_msgs::Twist twist;
+  twist.linear.x = linear;
+  twist.angular.z = angular;
+  cmd_vel_pub_.publish(twist);
+  moving_ = linear != 0.0 || angular != 0.0;
+}
+
+void ObstacleNodelet::publishStatus(const Decision& d, const ros::Time& now)
+{
+  ObstacleStatus& s = status_;
+  s.header.stamp = now;
+  s.header.frame_id = params_.target_frame;
+  if (have_frame_)
+  {
+    s.cloud_stamp = last_cloud_stamp_;
+    s.data_age = (now - last_cloud_stamp_).toSec();
+  }
+  else
+  {
+    s.cloud_stamp = ros::Time();
+    s.data_age = std::numeric_limits<double>::infinity();
+  }
+  s.state = static_cast<uint8_t>(d.state);
+  s.reason_code = static_cast<uint8_t>(d.reason);
+  s.reason = d.text;
+  s.blocked = d.blocked;
+  const VolumeResult& r = checker_->result();
+  s.nearest_distance = have_frame_ ? r.nearest_distance : std::numeric_limits<double>::infinity();
+  s.nearest_point.x = r.nearest_point.x;
+  s.nearest_point.y = r.nearest_point.y;
+  s.nearest_point.z = r.nearest_point.z;
+  s.free_distance = have_frame_ ? r.free_distance : 0.0;
+  s.sector_free_distance.resize(r.sectors.size());
+  for (std::size_t i = 0; i < r.sectors.size(); ++i)
+  {
+    s.sector_free_distance[i] = have_frame_ ? static_cast<float>(r.sectors[i].free_distance) : 0.0F;
+  }
+  s.points_in_box = r.in_box_points;
+  s.obstacle_points = r.obstacle_points;
+  s.invalid_points = r.invalid_points;
+  s.coverage = static_cast<float>(have_frame_ ? r.coverage : 0.0);
+  s.command = static_cast<uint8_t>(d.command);
+  s.command_distance = d.distance;
+  s.command_speed = d.speed;
+  s.command_angular_speed = d.angular_speed;
+  status_pub_.publish(s);
+}
+
+namespace
+{
+geometry_msgs::Point point(double x, double y, double z)
+{
+  geometry_msgs::Point p;
+  p.x = x;
+  p.y = y;
+  p.z = z;
+  return p;
+}
+
+std_msgs::ColorRGBA color(float r, float g, float b, float a)
+{
+  std_msgs::ColorRGBA c;
+  c.r = r;
+  c.g = g;
+  c.b = b;
+  c.a = a;
+  return c;
+}
+}  // namespace
+
+void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
+{
+  using visualization_msgs::Marker;
+  const VolumeResult& r = checker_->result();
+  const WorkingVolume& v = params_.settings.checker.volume;
+  const bool blocked = decider_->last().blocked;
+  markers_.markers.resize(5);
+  for (Marker& m : markers_.markers)
+  {
+    m.header.frame_id = params_.target_frame;
+    m.header.stamp = stamp;
+    m.action = Marker::ADD;
+    m.pose.orientation.w = 1.0;
+    m.id = 0;
+    m.lifetime = ros::Duration(0.0);
+    m.frame_locked = false;
+  }
+
+  // The box: 12 edges.
+  Marker& box = markers_.markers[0];
+  box.ns = "box";
+  box.type = Marker::LINE_LIST;
+  box.scale.x = 0.005;
+  box.color = blocked ? color(1.0F, 0.2F, 0.1F, 1.0F) : color(0.1F, 0.9F, 0.2F, 1.0F);
+  box.points.clear();
+  const double x0 = 0.0;
+  const double x1 = v.depth;
+  const double y0 = -0.5 * v.width;
+  const double y1 = 0.5 * v.width;
+  const double z0 = v.floor_margin;
+  const double z1 = v.height;
+  const double xs[2] = {x0, x1};
+  const double ys[2] = {y0, y1};
+  const double zs[2] = {z0, z1};
+  for (int a = 0; a < 2; ++a)
+  {
+    for (int b = 0; b < 2; ++b)
+    {
+      box.points.push_back(point(x0, ys[a], zs[b]));
+      box.points.push_back(point(x1, ys[a], zs[b]));
+      box.points.push_back(point(xs[a], y0, zs[b]));
+      box.points.push_back(point(xs[a], y1, zs[b]));
+      box.points.push_back(point(xs[a], ys[b], z0));
+      box.points.push_back(point(xs[a], ys[b], z1));
+    }
+  }
+
+  // The nearest obstacle point.
+  Marker& nearest = markers_.markers[1];
+  nearest.ns = "nearest";
+  nearest.type = Marker::SPHERE;
+  nearest.scale.x = nearest.scale.y = nearest.scale.z = 0.03;
+  nearest.color = color(1.0F, 0.0F, 1.0F, 1.0F);
+  nearest.action = r.nearest_index >= 0 ? Marker::ADD : Marker::DELETE;
+  nearest.pose.position = point(r.nearest_point.x, r.nearest_point.y, r.nearest_point.z);
+
+  // Obstacle points (accepted) and in-box points rejected as noise.
+  Marker& obstacles = markers_.markers[2];
+  obstacles.ns = "obstacles";
+  obstacles.type = Marker::POINTS;
+  obstacles.scale.x = obstacles.scale.y = 0.008;
+  obstacles.color = color(1.0F, 0.1F, 0.1F, 1.0F);
+  obstacles.points.clear();
+  for (const std::uint32_t i : r.obstacle_indices)
+  {
+    obstacles.points.push_back(point(points_[i].x, points_[i].y, points_[i].z));
+  }
+  Marker& rejected = markers_.markers[3];
+  rejected.ns = "rejected";
+  rejected.type = Marker::POINTS;
+  rejected.scale.x = rejected.scale.y = 0.008;
+  rejected.color = color(1.0F, 0.9F, 0.1F, 1.0F);
+  rejected.points.clear();
+  std::size_t k = 0;
+  for (const std::uint32_t i : r.in_box_indices)
+  {
+    // obstacle_indices is an ordered subsequence of in_box_indices.
+    if (k < r.obstacle_indices.size() && r.obstacle_indices[k] == i)
+    {
+      ++k;
+      continue;
+    }
+    rejected.points.push_back(point(points_[i].x, points_[i].y, points_[i].z));
+  }
+
+  // Free distance per sector, drawn on the floor.
+  Marker& free = markers_.markers[4];
+  free.ns = "free";
+  free.type = Marker::LINE_LIST;
+  free.scale.x = 0.01;
+  free.color = color(0.2F, 0.5F, 1.0F, 1.0F);
+  free.points.clear();
+  for (const SectorResult& s : r.sectors)
+  {
+    free.points.push_back(point(s.free_distance, s.y_min, 0.0));
+    free.points.push_back(point(s.free_distance, s.y_max, 0.0));
+  }
+  for (Marker& m : markers_.markers)
+  {
+    if (m.type == Marker::POINTS && m.points.empty())
+    {
+      m.action = Marker::DELETE;
+    }
+  }
+  markers_pub_.publish(markers_);
+}
+}  // namespace sl_obstacle
+
+PLUGINLIB_EXPORT_CLASS(sl_obstacle::ObstacleNodelet, nodelet::Nodelet)

@@ -1,0 +1,184 @@
+#include "params.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <dynamic_reconfigure/Config.h>
+#include <xmlrpcpp/XmlRpcValue.h>
+
+namespace sl_obstacle
+{
+namespace
+{
+[[noreturn]] void fail(const std::string& what)
+{
+  throw std::invalid_argument("parameter ~" + what);
+}
+
+template <typename Value>
+const Value* findByName(const std::vector<Value>& values, const std::string& name)
+{
+  for (const Value& v : values)
+  {
+    if (v.name == name)
+    {
+      return &v;
+    }
+  }
+  return nullptr;
+}
+
+/// Fails unless the parameter server value of a reconfigurable parameter has the right type.
+void checkType(const ros::NodeHandle& pnh, const std::string& name, const std::string& type)
+{
+  XmlRpc::XmlRpcValue value;
+  if (!pnh.getParam(name, value))
+  {
+    return;
+  }
+  const XmlRpc::XmlRpcValue::Type t = value.getType();
+  bool ok = false;
+  if (type == "double")
+  {
+    ok = t == XmlRpc::XmlRpcValue::TypeDouble || t == XmlRpc::XmlRpcValue::TypeInt;
+  }
+  else if (type == "int")
+  {
+    ok = t == XmlRpc::XmlRpcValue::TypeInt;
+  }
+  else if (type == "bool")
+  {
+    ok = t == XmlRpc::XmlRpcValue::TypeBoolean;
+  }
+  else if (type == "str")
+  {
+    ok = t == XmlRpc::XmlRpcValue::TypeString;
+  }
+  if (!ok)
+  {
+    fail(name + " must be of type " + type);
+  }
+}
+}  // namespace
+
+Settings toSettings(const ObstacleConfig& c)
+{
+  Settings s;
+  WorkingVolume& v = s.checker.volume;
+  v.width = c.width;
+  v.height = c.height;
+  v.depth = c.depth;
+  v.floor_margin = c.floor_margin;
+  v.max_range = c.max_range;
+  s.checker.min_confidence = c.min_confidence;
+  s.checker.sectors = c.sectors;
+  s.checker.cell_size = c.cell_size;
+  s.checker.noise.min_cluster_size = c.min_cluster_size;
+  s.checker.noise.cluster_tolerance = c.cluster_tolerance;
+  s.checker.noise.persistence_frames = c.persistence_frames;
+  s.checker.noise.persistence_tolerance = c.persistence_tolerance;
+  DecisionParams& d = s.decision;
+  d.enabled = c.enabled;
+  d.safety_margin = c.safety_margin;
+  d.min_goal_distance = c.min_goal_distance;
+  d.slow_distance = c.slow_distance;
+  d.max_speed = c.max_speed;
+  d.min_speed = c.min_speed;
+  d.min_coverage = c.min_coverage;
+  d.full_speed_coverage = c.full_speed_coverage;
+  d.stale_timeout = c.stale_timeout;
+  d.preempt_tolerance = c.preempt_tolerance;
+  d.replan_distance = c.replan_distance;
+  d.speed_tolerance = c.speed_tolerance;
+  d.turn_speed = c.turn_speed;
+  d.turn_angle = c.turn_angle;
+  d.max_turns = c.max_turns;
+  d.settle_time = c.settle_time;
+  return s;
+}
+
+std::string validateConfig(const ObstacleConfig& config)
+{
+  // Ranges of Obstacle.cfg: compare with the clamped copy, parameter by parameter.
+  ObstacleConfig clamped = config;
+  clamped.__clamp__();
+  dynamic_reconfigure::Config given;
+  dynamic_reconfigure::Config limited;
+  dynamic_reconfigure::Config low;
+  dynamic_reconfigure::Config high;
+  config.__toMessage__(given);
+  clamped.__toMessage__(limited);
+  ObstacleConfig::__getMin__().__toMessage__(low);
+  ObstacleConfig::__getMax__().__toMessage__(high);
+  for (const auto& d : given.doubles)
+  {
+    const auto* l = findByName(limited.doubles, d.name);
+    if (!std::isfinite(d.value) || (l != nullptr && l->value != d.value))
+    {
+      std::ostringstream s;
+      s << d.name << " must be in [" << findByName(low.doubles, d.name)->value << ", "
+        << findByName(high.doubles, d.name)->value << "] (got " << d.value << ")";
+      return s.str();
+    }
+  }
+  for (const auto& i : given.ints)
+  {
+    const auto* l = findByName(limited.ints, i.name);
+    if (l != nullptr && l->value != i.value)
+    {
+      std::ostringstream s;
+      s << i.name << " must be in [" << findByName(low.ints, i.name)->value << ", "
+        << findByName(high.ints, i.name)->value << "] (got " << i.value << ")";
+      return s.str();
+    }
+  }
+  return toSettings(config).validate();
+}
+
+NodeletParams loadParams(const ros::NodeHandle& pnh)
+{
+  NodeletParams p;
+  pnh.param("target_frame", p.target_frame, p.target_frame);
+  if (p.target_frame.empty())
+  {
+    fail("target_frame must not be empty");
+  }
+  std::string mode = "action";
+  pnh.param("command_mode", mode, mode);
+  if (mode == "action")
+  {
+    p.command_mode = CommandMode::ACTION;
+  }
+  else if (mode == "cmd_vel")
+  {
+    p.command_mode = CommandMode::CMD_VEL;
+  }
+  else
+  {
+    fail("command_mode must be \"action\" or \"cmd_vel\" (got \"" + mode + "\")");
+  }
+  pnh.param("control_rate", p.control_rate, p.control_rate);
+  if (!(p.control_rate >= 1.0 && p.control_rate <= 100.0))
+  {
+    std::ostringstream s;
+    s << "control_rate must be in [1, 100] Hz (got " << p.control_rate << ")";
+    fail(s.str());
+  }
+
+  p.config = ObstacleConfig::__getDefault__();
+  for (const auto& description : ObstacleConfig::__getParamDescriptions__())
+  {
+    checkType(pnh, description->name, description->type);
+  }
+  ros::NodeHandle copy(pnh);
+  p.config.__fromServer__(copy);
+  const std::string e = validateConfig(p.config);
+  if (!e.empty())
+  {
+    fail(e);
+  }
+  p.settings = toSettings(p.config);
+  return p;
+}
+}  // namespace sl_obstacle

@@ -1,0 +1,44 @@
+// Parameters of the sl_obstacle/obstacle nodelet: read and validated in one place.
+#ifndef SL_OBSTACLE_NODELETS_PARAMS_H
+#define SL_OBSTACLE_NODELETS_PARAMS_H
+
+#include <string>
+
+#include <ros/node_handle.h>
+
+#include "sl_obstacle/ObstacleConfig.h"
+#include "sl_obstacle/settings.h"
+
+namespace sl_obstacle
+{
+/// How forward motion is commanded.
+enum class CommandMode
+{
+  ACTION,  ///< drive_distance goals (create_driver/DriveDistance); turns via cmd_vel
+  CMD_VEL  ///< cmd_vel only (forward goals run open loop)
+};
+
+/// Everything the nodelet reads from its private namespace.
+struct NodeletParams
+{
+  std::string target_frame = "platform_edge";  ///< ~target_frame: frame of the working volume
+  CommandMode command_mode = CommandMode::ACTION;  ///< ~command_mode: "action" or "cmd_vel"
+  double control_rate = 10.0;  ///< ~control_rate: decision steps per second without clouds (Hz)
+  ObstacleConfig config;       ///< the reconfigurable parameters (same names as in Obstacle.cfg)
+  Settings settings;           ///< config converted to the core's parameter structs
+};
+
+/// Converts the reconfigurable parameters into the core's settings (no validation).
+Settings toSettings(const ObstacleConfig& config);
+
+/// Checks a reconfigurable configuration: every value inside its Obstacle.cfg range and the core's
+/// rules (Settings::validate). @return empty when valid, else "<name> ..." naming the parameter.
+std::string validateConfig(const ObstacleConfig& config);
+
+/// Reads every private parameter of @p pnh (defaults from Obstacle.cfg), checks types, ranges and
+/// relations. @throws std::invalid_argument with a message "parameter ~<name>: ..." on the first
+/// invalid value.
+NodeletParams loadParams(const ros::NodeHandle& pnh);
+}  // namespace sl_obstacle
+
+#endif  // SL_OBSTACLE_NODELETS_PARAMS_H

@@ -28,6 +28,9 @@ constexpr int kDRow[4] = { -1, 0, 1, 0 };
 constexpr int kDCol[4] = { 0, -1, 0, 1 };
 constexpr int kOpposite[4] = { kSouth, kEast, kNorth, kWest };
 
+// A rival candidate within this many pixels of the winner's epipolar error is as plausible.
+constexpr float kRivalEpipolarMargin = 0.5f;
+
 int popcount4(uint8_t bits)
 {
   return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
@@ -74,7 +77,11 @@ void Decoder::decode(const cv::Mat& image, DecodeResult& result)
   for (Blob& b : result.blobs)
   {
     classifier_.classify(image, b);
-    result.identified += b.shape > 0;
+    if (b.shape > 0)
+    {
+      classifier_.refineCentroid(image, b);
+      ++result.identified;
+    }
   }
   result.times.classify = msSince(t);
 
@@ -97,11 +104,35 @@ void Decoder::findCandidates(DecodeResult& result)
   const double fx = rig_.camera.fx;
   cand_begin_.resize(result.blobs.size() + 1);
   cands_.clear();
+  // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
+  // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
+  sizes_w_.clear();
+  sizes_h_.clear();
+  for (const Blob& b : result.blobs)
+    if (b.shape > 0)
+    {
+      sizes_w_.push_back(b.width());
+      sizes_h_.push_back(b.height());
+    }
+  float median_w = 0.f, median_h = 0.f;
+  if (!sizes_w_.empty())
+  {
+    const size_t mid = sizes_w_.size() / 2;
+    std::nth_element(sizes_w_.begin(), sizes_w_.begin() + static_cast<long>(mid), sizes_w_.end());
+    std::nth_element(sizes_h_.begin(), sizes_h_.begin() + static_cast<long>(mid), sizes_h_.end());
+    median_w = static_cast<float>(sizes_w_[mid]);
+    median_h = static_cast<float>(sizes_h_[mid]);
+  }
+  const float dev = static_cast<float>(config_.max_size_deviation);
   for (size_t bi = 0; bi < result.blobs.size(); ++bi)
   {
     cand_begin_[bi] = static_cast<int32_t>(cands_.size());
     const Blob& b = result.blobs[bi];
     if (b.shape == 0)
+      continue;
+    // One pixel of slack: boxes are whole pixels.
+    if (std::abs(static_cast<float>(b.width()) - median_w) > dev * median_w + 1.f ||
+        std::abs(static_cast<float>(b.height()) - median_h) > dev * median_h + 1.f)
       continue;
     const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);
     const Eigen::Vector3d d1 = ray.normalized();
@@ -127,9 +158,13 @@ void Decoder::findCandidates(DecodeResult& result)
         continue;
       const double gap = (s * d1 - (o + u * d2)).norm();
       const double epipolar_px = gap / z * fx;  // the gap seen from the camera, in pixels
-      if (epipolar_px > config_.epipolar_tolerance)
+      // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
+      // a partial occlusion may push the true primitive just outside the tolerance while a wrong
+      // one along the same epipolar curve stays inside; such a blob must stay undecided.
+      if (epipolar_px > 2.0 * config_.epipolar_tolerance)
         continue;
-      cands_.push_back(Candidate{ p, static_cast<float>(z), static_cast<float>(epipolar_px), 0 });
+      cands_.push_back(Candidate{ p, static_cast<float>(z), static_cast<float>(epipolar_px), 0,
+                                  epipolar_px <= config_.epipolar_tolerance });
     }
     (void)cols;
   }
@@ -244,14 +279,43 @@ void Decoder::correspond(DecodeResult& result)
   const uint8_t discriminating = along_rows ? static_cast<uint8_t>((1 << kWest) | (1 << kEast))
                                             : static_cast<uint8_t>((1 << kNorth) | (1 << kSouth));
   const uint8_t confirming = static_cast<uint8_t>(0xF & ~discriminating);
+  const float step = static_cast<float>(config_.max_depth_step);
 
-  auto hasCandidate = [&](int blob, int primitive) {
+  // The candidate of blob @p blob for @p primitive, or -1.
+  auto findCandidate = [&](int blob, int primitive) {
     for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < cand_begin_[static_cast<size_t>(blob) + 1]; ++k)
       if (cands_[static_cast<size_t>(k)].primitive == primitive)
-        return true;
-    return false;
+        return static_cast<int>(k);
+    return -1;
+  };
+  // The primitive adjacent to @p p in direction @p d, or -1 outside the pattern.
+  auto adjacent = [&](int p, int d) {
+    const int r = p / cols + kDRow[d], c = p % cols + kDCol[d];
+    return (r < 0 || c < 0 || r >= rows || c >= cols) ? -1 : r * cols + c;
   };
 
+  // Support: a neighbour that has the adjacent primitive among its tight candidates, at a similar
+  // depth.
+  for (size_t i = 0; i < blobs.size(); ++i)
+    for (int32_t k = cand_begin_[i]; k < cand_begin_[i + 1]; ++k)
+    {
+      Candidate& c = cands_[static_cast<size_t>(k)];
+      c.bits = 0;
+      for (int d = 0; d < 4; ++d)
+      {
+        const int n = blobs[i].neighbour[d];
+        const int q = adjacent(c.primitive, d);
+        if (n < 0 || q < 0)
+          continue;
+        // Only a neighbour whose own geometry fits (a tight candidate) lends support.
+        const int kn = findCandidate(n, q);
+        if (kn >= 0 && cands_[static_cast<size_t>(kn)].tight &&
+            std::abs(cands_[static_cast<size_t>(kn)].depth - c.depth) <= step * c.depth)
+          c.bits |= static_cast<uint8_t>(1 << d);
+      }
+    }
+
+  // First pass: the candidate that alone has the best support, with enough of it.
   label_.assign(blobs.size(), -1);
   for (size_t i = 0; i < blobs.size(); ++i)
   {
@@ -264,19 +328,7 @@ void Decoder::correspond(DecodeResult& result)
     int best = -1, best_support = -1, ties = 0;
     for (int32_t k = k0; k < k1; ++k)
     {
-      Candidate& c = cands_[static_cast<size_t>(k)];
-      const int r = c.primitive / cols, col = c.primitive % cols;
-      c.bits = 0;
-      for (int d = 0; d < 4; ++d)
-      {
-        const int n = b.neighbour[d];
-        const int nr = r + kDRow[d], nc = col + kDCol[d];
-        if (n < 0 || nr < 0 || nc < 0 || nr >= rows || nc >= cols)
-          continue;
-        if (hasCandidate(n, nr * cols + nc))
-          c.bits |= static_cast<uint8_t>(1 << d);
-      }
-      const int support = popcount4(c.bits);
+      const int support = popcount4(cands_[static_cast<size_t>(k)].bits);
       if (support > best_support)
       {
         best_support = support;
@@ -290,7 +342,18 @@ void Decoder::correspond(DecodeResult& result)
     const bool unique = (k1 - k0) == 1;
     const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
     const int discr = popcount4(static_cast<uint8_t>(c.bits & discriminating));
-    if (ties > 0 || confirm < 1)
+    if (ties > 0 || confirm < 1 || !c.tight)
+      continue;
+    // A rival only one support short that fits the epipolar geometry about as well (or better) is
+    // not ruled out: a blob's biased centroid or one false witness could make that difference.
+    bool rival = false;
+    for (int32_t k = k0; k < k1 && !rival; ++k)
+    {
+      const Candidate& r = cands_[static_cast<size_t>(k)];
+      rival = k != best && popcount4(r.bits) >= best_support - 1 &&
+              r.epipolar <= c.epipolar + kRivalEpipolarMargin;
+    }
+    if (rival)
       continue;
     if (!unique && (discr < 1 || best_support < config_.min_support))
       continue;
@@ -299,13 +362,63 @@ void Decoder::correspond(DecodeResult& result)
     label_[i] = best;
   }
 
+  // Growth: a blob next to decoded ones takes the primitive they imply, if that is one of its
+  // candidates at a continuous depth, its shape is confirmed across the epipolar direction, and no
+  // decoded neighbour disagrees. Decodes the pattern's border and blobs with ambiguous support.
+  for (int round = 0; round < 16; ++round)
+  {
+    grow_.clear();
+    for (size_t i = 0; i < blobs.size(); ++i)
+    {
+      if (label_[i] >= 0 || cand_begin_[i] == cand_begin_[i + 1])
+        continue;
+      int implied = -1, agreeing = 0;
+      bool conflict = false;
+      for (int d = 0; d < 4 && !conflict; ++d)
+      {
+        const int n = blobs[i].neighbour[d];
+        if (n < 0 || label_[static_cast<size_t>(n)] < 0)
+          continue;
+        // b is n's neighbour in the opposite direction.
+        const int p = adjacent(cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive, kOpposite[d]);
+        if (p < 0 || (implied >= 0 && p != implied))
+          conflict = true;
+        else
+        {
+          implied = p;
+          ++agreeing;
+        }
+      }
+      if (conflict || implied < 0)
+        continue;
+      const int k = findCandidate(static_cast<int>(i), implied);
+      if (k < 0)
+        continue;
+      const Candidate& c = cands_[static_cast<size_t>(k)];
+      const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
+      if (!c.tight || popcount4(c.bits) < 2 || (confirm < 1 && agreeing < 2))
+        continue;
+      // Another candidate with at least as much support makes the implication doubtful.
+      bool rival = false;
+      for (int32_t j = cand_begin_[i]; j < cand_begin_[i + 1] && !rival; ++j)
+        rival = j != k && popcount4(cands_[static_cast<size_t>(j)].bits) >= popcount4(c.bits);
+      if (rival)
+        continue;
+      grow_.push_back(static_cast<int32_t>(i));
+      grow_.push_back(k);
+    }
+    if (grow_.empty())
+      break;
+    for (size_t g = 0; g < grow_.size(); g += 2)
+      label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
+  }
+
   // Validation: a decoded blob whose decoded neighbours mostly contradict it is undone.
   for (size_t i = 0; i < blobs.size(); ++i)
   {
     if (label_[i] < 0)
       continue;
     const int p = cands_[static_cast<size_t>(label_[i])].primitive;
-    const int r = p / cols, col = p % cols;
     int agree = 0, disagree = 0;
     for (int d = 0; d < 4; ++d)
     {
@@ -313,7 +426,7 @@ void Decoder::correspond(DecodeResult& result)
       if (n < 0 || label_[static_cast<size_t>(n)] < 0)
         continue;
       const int q = cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive;
-      if (q / cols == r + kDRow[d] && q % cols == col + kDCol[d])
+      if (q == adjacent(p, d))
         ++agree;
       else
         ++disagree;
@@ -341,8 +454,7 @@ void Decoder::correspond(DecodeResult& result)
     if (label_[i] < 0)
       continue;
     const Candidate& c = cands_[static_cast<size_t>(label_[i])];
-    int32_t& o = owner[static_cast<size_t>(c.primitive)];
-    if (o == -2)
+    if (owner[static_cast<size_t>(c.primitive)] == -2)
     {
       label_[i] = -1;
       continue;
@@ -354,12 +466,9 @@ void Decoder::correspond(DecodeResult& result)
     b.epipolar_error = c.epipolar;
     ++result.decoded;
   }
-  // Reset the owner table for the next frame (touching only what was set).
-  for (size_t i = 0; i < blobs.size(); ++i)
-    if (cand_begin_[i] < cand_begin_[i + 1])
-      for (int32_t k = cand_begin_[i]; k < cand_begin_[i + 1]; ++k)
-        owner[static_cast<size_t>(cands_[static_cast<size_t>(k)].primitive)] = -1;
-  (void)kOpposite;
+  // Reset the owner table for the next frame (touching only what could have been set).
+  for (const Candidate& c : cands_)
+    owner[static_cast<size_t>(c.primitive)] = -1;
 }
 
 void Decoder::computeDepth(DecodeResult& result)

@@ -70,6 +70,8 @@ void DecoderConfig::validate() const
         "must be > neighbour_along_min");
   check(finite(neighbour_across) && neighbour_across > 0.0 && neighbour_across < 1.0, "neighbour_across",
         "must be in (0, 1)");
+  check(finite(max_depth_step) && max_depth_step > 0.0, "max_depth_step", "must be > 0");
+  check(finite(max_size_deviation) && max_size_deviation > 0.0, "max_size_deviation", "must be > 0");
   check(finite(epipolar_tolerance) && epipolar_tolerance > 0.0, "epipolar_tolerance", "must be > 0");
   check(finite(min_depth) && min_depth > 0.0, "min_depth", "must be > 0");
   check(finite(max_depth) && max_depth > min_depth, "max_depth", "must be > min_depth");

@@ -57,17 +57,23 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::R
   const int cols = pattern.config().cols;
   const int cells = pattern.config().rows * cols;
   std::vector<int> lit(static_cast<size_t>(cells), 0);
+  std::vector<float> near(static_cast<size_t>(cells), 1e9f), far(static_cast<size_t>(cells), -1e9f);
   const cv::Mat& pc = truth.projector_coords;
   for (int y = 0; y < pc.rows; ++y)
   {
     const cv::Vec2f* row = pc.ptr<cv::Vec2f>(y);
+    const float* depth = truth.depth.ptr<float>(y);
     for (int x = 0; x < pc.cols; ++x)
     {
       if (std::isnan(row[x][0]))
         continue;
       const int p = primitiveAt(pattern, row[x][0], row[x][1], 0.0);
-      if (p >= 0)
-        ++lit[static_cast<size_t>(p)];
+      if (p < 0)
+        continue;
+      const size_t i = static_cast<size_t>(p);
+      ++lit[i];
+      near[i] = std::min(near[i], depth[x]);
+      far[i] = std::max(far[i], depth[x]);
     }
   }
   std::vector<int> counts;
@@ -78,8 +84,9 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::R
   {
     std::nth_element(counts.begin(), counts.begin() + static_cast<long>(counts.size() / 2), counts.end());
     const int median = counts[counts.size() / 2];
-    for (int n : lit)
-      s.visible += 2 * n >= median;
+    // Visible: (nearly) all of the primitive is seen, on one surface (no depth step across it).
+    for (size_t i = 0; i < lit.size(); ++i)
+      s.visible += 5 * lit[i] >= 4 * median && far[i] - near[i] <= std::max(0.01f, 0.02f * near[i]);
   }
 
   s.identified = result.identified;

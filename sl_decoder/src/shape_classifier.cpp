@@ -1,6 +1,7 @@
 #include "sl_decoder/shape_classifier.h"
 
 #include <cmath>
+#include <cstdint>
 
 #include "sl_projector/primitives.h"
 
@@ -148,4 +149,50 @@ void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
     blob.shape = best_shape;
 }
 
+}  // namespace sl_decoder
+
+namespace sl_decoder
+{
+void ShapeClassifier::refineCentroid(const cv::Mat& image, Blob& blob, int margin) const
+{
+  const int x0 = std::max(0, blob.x0 - margin), x1 = std::min(image.cols, blob.x1 + margin);
+  const int y0 = std::max(0, blob.y0 - margin), y1 = std::min(image.rows, blob.y1 + margin);
+  if (x1 - x0 < 3 || y1 - y0 < 3)
+    return;
+  // Dark level: the mean of the rim of the grown box (the gaps around the primitive).
+  float rim = 0.f;
+  int rim_n = 0;
+  for (int x = x0; x < x1; ++x)
+  {
+    rim += image.at<uint8_t>(y0, x) + image.at<uint8_t>(y1 - 1, x);
+    rim_n += 2;
+  }
+  for (int y = y0 + 1; y < y1 - 1; ++y)
+  {
+    rim += image.at<uint8_t>(y, x0) + image.at<uint8_t>(y, x1 - 1);
+    rim_n += 2;
+  }
+  const int dark = static_cast<int>(rim / static_cast<float>(rim_n) + 0.5f);
+  // Integer sums (exact, and they vectorise): weight = max(0, value - dark).
+  int64_t sw = 0, swx = 0, swy = 0;
+  for (int y = y0; y < y1; ++y)
+  {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    int32_t rw = 0, rwx = 0;
+    for (int x = x0; x < x1; ++x)
+    {
+      const int32_t w = std::max(0, static_cast<int32_t>(row[x]) - dark);
+      rw += w;
+      rwx += w * x;
+    }
+    sw += rw;
+    swx += rwx;
+    swy += static_cast<int64_t>(rw) * y;
+  }
+  if (sw > 0)
+  {
+    blob.u = static_cast<float>(static_cast<double>(swx) / static_cast<double>(sw));
+    blob.v = static_cast<float>(static_cast<double>(swy) / static_cast<double>(sw));
+  }
+}
 }  // namespace sl_decoder

@@ -54,13 +54,16 @@ struct DecodeResult
  *     distortion) passes within the tolerance and whose depth is in range;
  *  5. neighbours N, W, S, E: the nearest blob in a window around the pattern's local step;
  *  6. correspondence: a candidate is supported by each neighbour that has the adjacent primitive
- *     among its own candidates. Along the epipolar direction (usually the rows) candidates differ,
- *     so support there discriminates; across it, support confirms the shape. A blob takes the
- *     candidate that is the only one with the best support, if it has at least one confirming
- *     neighbour and min_support in all (a unique candidate needs only the confirmation). Then
- *     decoded neighbours that contradict each other, and primitives claimed twice, are undone.
- *     This subsumes the prototype's full-word lookup and still decodes primitives with missing
- *     neighbours (thin objects, depth edges) when the evidence leaves one candidate;
+ *     among its own candidates at a similar depth. Along the epipolar direction (usually the rows)
+ *     candidates differ, so support there discriminates; across it, support confirms the shape.
+ *     A blob takes the candidate that is the only one with the best support, if it has at least
+ *     one confirming neighbour and min_support in all (a unique candidate needs only the
+ *     confirmation). Then decoding grows: a blob next to decoded ones takes the primitive they
+ *     imply when it is among its candidates, is confirmed and nothing disagrees. Finally decoded
+ *     neighbours that contradict each other, and primitives claimed twice, are undone. Blobs whose
+ *     size is far from the frame's median (cut by an edge, merged) are not decoded. This subsumes
+ *     the prototype's full-word lookup and still decodes primitives with missing neighbours (the
+ *     pattern's border, thin objects, depth edges) when the evidence leaves one candidate;
  *  7. depth: ray-ray triangulation with the projector ray of the decoded primitive, or the
  *     per-primitive rational or linear tables of a plane calibration.
  *
@@ -97,6 +100,7 @@ private:
     float depth;      // camera z, m
     float epipolar;   // px
     uint8_t bits;     // consistent neighbours, bit d for Direction d
+    bool tight;       // within the epipolar tolerance (others, within twice it, only compete)
   };
 
   void findCandidates(DecodeResult& result);
@@ -115,7 +119,9 @@ private:
   std::vector<Candidate> cands_;
   std::vector<int32_t> grid_start_, grid_items_, grid_fill_;
   std::vector<int32_t> owner_;  // primitive -> blob, for duplicate detection
-  std::vector<int32_t> label_;  // blob -> primitive (working copy)
+  std::vector<int32_t> label_;  // blob -> candidate index (working copy)
+  std::vector<int32_t> grow_;   // (blob, candidate) pairs decoded in a growth round
+  std::vector<int> sizes_w_, sizes_h_;  // box sizes of identified blobs, for the median
   int grid_w_ = 0, grid_h_ = 0;
   double grid_cell_ = 1.0;
 };

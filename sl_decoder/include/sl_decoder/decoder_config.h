@@ -39,8 +39,8 @@ struct DecoderConfig
   double min_fill = 0.35;          ///< area / bounding-box area
   double min_contrast = 6.0;       ///< peak minus local mean, grey levels
   // Shape identification.
-  int template_width = 10;         ///< samples across a blob
-  int template_height = 18;        ///< samples down a blob
+  int template_width = 8;          ///< samples across a blob
+  int template_height = 14;        ///< samples down a blob
   double template_sigma = 0.8;     ///< blur of the ideal templates, template samples
   double min_margin = 0.08;        ///< best minus second-best correlation to identify a shape
   double min_correlation = 0.35;   ///< best correlation to identify a shape
@@ -48,6 +48,10 @@ struct DecoderConfig
   double neighbour_along_min = 0.55;  ///< nearest acceptable distance along the direction
   double neighbour_along_max = 1.5;   ///< farthest acceptable distance along the direction
   double neighbour_across = 0.4;      ///< acceptable offset across the direction
+  double max_depth_step = 0.02;       ///< neighbours support each other only within this depth
+                                      ///< difference, as a fraction of the depth
+  double max_size_deviation = 0.15;   ///< blobs whose box differs more than this fraction from the
+                                      ///< frame's median size (cut by an edge, merged) are not decoded
   // Geometry.
   double epipolar_tolerance = 2.0;  ///< max distance of a primitive from its epipolar curve, px
   double min_depth = 0.25;          ///< m, camera z

@@ -39,9 +39,9 @@ struct EvalStats
 /**
  * @brief Compares a decode with the renderer's ground truth.
  *
- * A primitive is visible when the camera pixels lit by its box number at least half the median
- * count of all lit primitives (so a primitive cut by an occlusion or the image border counts only
- * if most of it is seen). A point is wrong when the ground-truth projector coordinates around its
+ * A primitive is visible when the camera pixels lit by its box number at least 80% of the median
+ * count of all lit primitives and their depths lie within 2% (at least 10 mm) of each other: the
+ * camera sees it whole, on one surface (not cut by the image border, an occlusion or a corner). A point is wrong when the ground-truth projector coordinates around its
  * centroid (within 1.5 px) are lit but none lies in the box (with a 1 px margin) of the decoded
  * primitive. The depth error compares the point's z with the ground-truth depth at its centroid.
  */

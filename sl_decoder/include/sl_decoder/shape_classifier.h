@@ -32,6 +32,17 @@ public:
    */
   void classify(const cv::Mat& image, Blob& blob);
 
+  /**
+   * @brief Re-estimates blob.u, blob.v as the centroid of all the blob's light above the dark
+   * level around it, over its box grown by @p margin px.
+   *
+   * The labelling's centroid only weighs pixels above the local threshold; cutting off the blurred
+   * edges of the asymmetric shapes shifts it by about a seventh of a pixel, a millimetre of depth at
+   * 0.7 m. Blur preserves the centroid of the whole light distribution, so summing all of it (minus
+   * the dark level, measured on the grown box's rim) removes that bias.
+   */
+  void refineCentroid(const cv::Mat& image, Blob& blob, int margin = 2) const;
+
 private:
   DecoderConfig config_;
   int tw_, th_;

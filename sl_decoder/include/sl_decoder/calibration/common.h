@@ -63,11 +63,18 @@ struct PrimitiveSample
 std::vector<PrimitiveSample> decodedSamples(const DecodeResult& result);
 
 /**
- * @brief Decoder settings for calibration images: the decoder's defaults with triangulation (the
- * rig being calibrated may have no depth tables yet) and the given epipolar tolerance (px), which
- * is wider than the default so that a rig file that is only roughly right still decodes.
+ * @brief Default epipolar tolerance of the decoder on calibration images, px. Much wider than the
+ * decoder's default (2 px), so that a rig file that is only roughly right (focal lengths off by a
+ * percent, the projector off by a few mm) still decodes; the neighbour support keeps the
+ * correspondences right (measured in simulation with such a rig: no wrong decodes at 10 px).
  */
-DecoderConfig calibrationDecoderConfig(double epipolar_tolerance = 3.0);
+constexpr double kCalibrationEpipolarTolerance = 10.0;
+
+/**
+ * @brief Decoder settings for calibration images: the decoder's defaults with triangulation (the
+ * rig being calibrated may have no depth tables yet) and the given epipolar tolerance (px).
+ */
+DecoderConfig calibrationDecoderConfig(double epipolar_tolerance = kCalibrationEpipolarTolerance);
 
 /**
  * @brief Reads an image file as 8-bit grey (colour is converted, 16-bit scaled to 8).
@@ -81,6 +88,15 @@ cv::Mat readGreyImage(const std::string& path);
  * @throws CalibrationError if the path does not exist or a folder has no images.
  */
 std::vector<std::string> listImages(const std::string& path);
+
+/**
+ * @brief Splits "PATH:NUMBER" at the last ':' (e.g. "plane_500.png:0.5").
+ * @throws CalibrationError naming @p spec if there is no ':' or the number does not parse.
+ */
+void parsePathAndNumber(const std::string& spec, std::string& path, double& number);
+
+/// @brief Parses a comma-separated list of numbers ("0.5,0.6,0.7"). @throws std::invalid_argument.
+std::vector<double> parseNumberList(const std::string& text);
 
 /// @brief Angle of the rotation @p a^T * @p b, rad.
 double rotationAngle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);

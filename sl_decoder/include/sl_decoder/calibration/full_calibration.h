@@ -26,7 +26,12 @@ struct FullCalibrationOptions
   CameraCalibrationOptions camera;        ///< camera fit
   ProjectorCalibrationOptions projector;  ///< projector fit
   PlaneCalibrationOptions distance_planes;  ///< how known distances define planes (reference, normal)
-  double epipolar_tolerance = 3.0;  ///< decoder tolerance for the pattern images, px (the input rig is only approximate)
+  double epipolar_tolerance = kCalibrationEpipolarTolerance;  ///< decoder tolerance for the pattern images, px
+  /// After the separate fits, refine everything together (bundle adjustment): camera and projector
+  /// models, projector pose and board poses, minimising the checkerboard corners' reprojection error
+  /// in the camera and the primitives' reprojection error in the projector.
+  bool joint_refinement = true;
+  int max_iterations = 50;  ///< Levenberg-Marquardt iterations of the joint refinement
 };
 
 /// @brief Everything the full calibration produced.
@@ -36,6 +41,7 @@ struct FullCalibrationResult
   CameraCalibrationResult camera;          ///< camera fit (model also set when given)
   std::vector<std::string> camera_views;   ///< names of the board views, in the order of camera.view_rms
   ProjectorCalibrationResult projector;    ///< projector fit
+  bool refined = false;                    ///< the joint refinement ran (the numbers above are after it)
   std::vector<std::string> plane_views;    ///< names of the plane views, in the order of projector.view_rms
   sl_projector::Rig rig;                   ///< the input rig with camera, projector and projector_pose replaced
 

@@ -23,6 +23,7 @@ struct ProjectorCorrespondence
 {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();      ///< on the calibration plane, camera optical frame, m
   Eigen::Vector2d projector = Eigen::Vector2d::Zero();  ///< the primitive's centroid, projector px
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();      ///< where the camera saw it, px
   int view = 0;                                         ///< index of the plane view
   int row = 0;                                          ///< pattern row
   int col = 0;                                          ///< pattern column
@@ -45,7 +46,8 @@ struct ProjectorCalibrationOptions
   int min_points_per_view = 30;  ///< a view with fewer decoded primitives is refused
   bool fix_k3 = true;            ///< keep k3 = 0
   bool zero_tangential = false;  ///< keep p1 = p2 = 0
-  double outlier_px = 3.0;       ///< correspondences off by more than max(this, 4 rms) after a first fit are dropped
+  double outlier_px = 3.0;       ///< correspondences off by more than max(this, 4 x the median) are dropped, px
+  double max_rms = 2.0;          ///< a larger final reprojection error is an error (wrong decodes or planes), px
   int max_iterations = 100;      ///< Levenberg-Marquardt iterations per pass
 };
 
@@ -59,18 +61,23 @@ struct ProjectorCalibrationResult
   std::vector<int> view_points;                  ///< inlier correspondences per view
   int points = 0;                                ///< inliers in all
   int outliers = 0;                              ///< dropped correspondences
+  /// Per input correspondence: used in the final fit (false for outliers and views with too few points).
+  std::vector<bool> inlier;
 };
 
 /**
  * @brief Calibrates the projector from 3D-2D correspondences in the camera frame.
  *
- * A linear estimate (normalised DLT of the 3 x 4 projection, decomposed into K, R, t) starts a
- * Levenberg-Marquardt minimisation of the projector reprojection error over fx, fy, cx, cy, k1, k2,
- * p1, p2 (k3), the rotation and the translation; outliers are then dropped and the fit repeated.
+ * A linear estimate (normalised DLT of the 3 x 4 projection, decomposed into K, R, t; inside a
+ * deterministic RANSAC so that wrong decodes do not bias it) starts a Levenberg-Marquardt
+ * minimisation of the projector reprojection error over fx, fy, cx, cy, k1, k2, p1, p2 (k3), the
+ * rotation and the translation; outliers (beyond max(outlier_px, 4 x the median residual)) are
+ * then dropped and the fit repeated until the inlier set settles.
  * Points on planes with at least two distinct poses make the 3D points non-coplanar, which is all
  * the linear estimate needs; more poses at different orientations constrain it better.
  * @param width, height the projector frame size, px.
- * @throws CalibrationError for fewer than min_views views, too few points, or a failed fit.
+ * @throws CalibrationError for fewer than min_views views, too few points, a failed fit, or a final
+ * reprojection error above max_rms.
  */
 ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorrespondence>& correspondences, int width,
                                               int height,

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <dirent.h>
 #include <sys/stat.h>
 
@@ -103,6 +104,39 @@ std::vector<std::string> listImages(const std::string& path)
   std::sort(out.begin(), out.end());
   if (out.empty())
     throw CalibrationError(path + ": the folder has no images (png, jpg, pgm, bmp, tif ...)");
+  return out;
+}
+
+void parsePathAndNumber(const std::string& spec, std::string& path, double& number)
+{
+  const size_t colon = spec.find_last_of(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+    throw CalibrationError("'" + spec + "': expected PATH:DISTANCE_M (e.g. plane_500.png:0.5)");
+  path = spec.substr(0, colon);
+  const std::string text = spec.substr(colon + 1);
+  char* end = nullptr;
+  number = std::strtod(text.c_str(), &end);
+  if (!end || *end != '\0' || !std::isfinite(number))
+    throw CalibrationError("'" + spec + "': '" + text + "' is not a number (distance in metres)");
+}
+
+std::vector<double> parseNumberList(const std::string& text)
+{
+  std::vector<double> out;
+  size_t start = 0;
+  while (start <= text.size())
+  {
+    const size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || !end || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument("'" + text + "' is not a comma-separated list of numbers");
+    out.push_back(v);
+    if (comma == std::string::npos)
+      break;
+    start = comma + 1;
+  }
   return out;
 }
 

@@ -1,7 +1,10 @@
 #include "sl_decoder/calibration/full_calibration.h"
 
 #include <cmath>
+#include <map>
 #include <sstream>
+
+#include "sl_decoder/calibration/optimizer.h"
 
 namespace sl_decoder
 {
@@ -83,6 +86,10 @@ void FullCalibration::addPlaneView(const std::string& board_name, const cv::Mat&
                            std::to_string(board_.rows) +
                            " inner corners not found (the whole board must be visible, lit, and in focus)");
   const std::vector<PrimitiveSample> samples = decode(pattern_name, pattern_grey);
+  if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
+    throw CalibrationError(pattern_name + ": only " + std::to_string(samples.size()) +
+                           " pattern primitives decoded (need " + std::to_string(options_.projector.min_points_per_view) +
+                           "): is the projector on and the pattern on the plane?");
   addPlaneSamples(board_name + " + " + pattern_name, corners, samples);
 }
 
@@ -139,6 +146,99 @@ void FullCalibration::clear()
   board_views_.clear();
   plane_views_.clear();
 }
+
+namespace
+{
+Eigen::Matrix3d rotationOf(const Eigen::Vector3d& w)
+{
+  const double a = w.norm();
+  return a < 1e-15 ? Eigen::Matrix3d::Identity() : Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
+Eigen::Vector3d vectorOf(const Eigen::Matrix3d& R)
+{
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+void setModel(const Eigen::VectorXd& p, int at, sl_projector::PinholeModel& m)
+{
+  m.fx = p(at);
+  m.fy = p(at + 1);
+  m.cx = p(at + 2);
+  m.cy = p(at + 3);
+  for (int i = 0; i < 5; ++i)
+    m.dist[static_cast<size_t>(i)] = p(at + 4 + i);
+}
+
+void getModel(const sl_projector::PinholeModel& m, int at, Eigen::VectorXd& p)
+{
+  p.segment<4>(at) << m.fx, m.fy, m.cx, m.cy;
+  for (int i = 0; i < 5; ++i)
+    p(at + 4 + i) = m.dist[static_cast<size_t>(i)];
+}
+
+/// One primitive of the joint refinement: seen at `pixel` on the plane of board view `board`
+/// (or on the fixed plane `plane` when board < 0), lit by projector pixel `projector`.
+struct JointPrimitive
+{
+  int board;
+  CalibrationPlane plane;
+  Eigen::Vector2d pixel, projector;
+  int view;
+};
+
+// Parameter layout: camera 0..8, projector 9..17, projector-from-camera rotation 18..20 and
+// translation 21..23 (x_proj = R x_cam + t), then per board view the board in the camera (w, t).
+constexpr int kCam = 0, kProj = 9, kPose = 18, kBoards = 24;
+
+void jointResiduals(const Eigen::VectorXd& p, const std::vector<BoardView>& boards,
+                    const std::vector<cv::Point3f>& object, const std::vector<JointPrimitive>& prims,
+                    sl_projector::PinholeModel cam, sl_projector::PinholeModel proj, Eigen::VectorXd& r)
+{
+  setModel(p, kCam, cam);
+  setModel(p, kProj, proj);
+  const Eigen::Matrix3d Rp = rotationOf(p.segment<3>(kPose));
+  const Eigen::Vector3d tp = p.segment<3>(kPose + 3);
+  std::vector<Eigen::Matrix3d> Rb(boards.size());
+  std::vector<Eigen::Vector3d> tb(boards.size());
+  for (size_t j = 0; j < boards.size(); ++j)
+  {
+    Rb[j] = rotationOf(p.segment<3>(kBoards + 6 * static_cast<long>(j)));
+    tb[j] = p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3);
+  }
+  r.resize(static_cast<long>(2 * (boards.size() * object.size() + prims.size())));
+  long k = 0;
+  for (size_t j = 0; j < boards.size(); ++j)
+    for (size_t i = 0; i < object.size(); ++i)
+    {
+      const Eigen::Vector3d P(object[i].x, object[i].y, object[i].z);
+      const Eigen::Vector2d e = cam.project(Rb[j] * P + tb[j]) -
+                                Eigen::Vector2d(boards[j].corners[i].x, boards[j].corners[i].y);
+      r(k++) = std::isfinite(e.x()) ? e.x() : 1e3;
+      r(k++) = std::isfinite(e.y()) ? e.y() : 1e3;
+    }
+  for (const JointPrimitive& q : prims)
+  {
+    CalibrationPlane plane = q.plane;
+    if (q.board >= 0)
+    {
+      plane.normal = Rb[static_cast<size_t>(q.board)].col(2);
+      plane.offset = plane.normal.dot(tb[static_cast<size_t>(q.board)]);
+    }
+    Eigen::Vector3d X;
+    Eigen::Vector2d e(1e3, 1e3);
+    if (plane.intersect(cam.ray(q.pixel), X))
+    {
+      const Eigen::Vector3d x = Rp * X + tp;
+      if (x.z() > 1e-6)
+        e = proj.project(x) - q.projector;
+    }
+    r(k++) = e.x();
+    r(k++) = e.y();
+  }
+}
+}  // namespace
 
 FullCalibrationResult FullCalibration::calibrate() const
 {
@@ -205,6 +305,95 @@ FullCalibrationResult FullCalibration::calibrate() const
   }
   out.projector = calibrateProjector(corr, rig.projector.width, rig.projector.height, options_.projector);
 
+  if (options_.joint_refinement)
+  {
+    // 4. Everything together, from the separate fits, on the inliers of the projector fit.
+    std::vector<JointPrimitive> prims;
+    for (size_t i = 0; i < corr.size(); ++i)
+    {
+      if (!out.projector.inlier[i])
+        continue;
+      const PlaneView& v = plane_views_[static_cast<size_t>(corr[i].view)];
+      JointPrimitive q;
+      q.board = v.board_view;
+      if (v.board_view < 0)
+        q.plane = planeAtDistance(rig, v.distance, options_.distance_planes);
+      q.pixel = corr[i].pixel;
+      q.projector = corr[i].projector;
+      q.view = corr[i].view;
+      prims.push_back(q);
+    }
+    const long n = kBoards + 6 * static_cast<long>(board_views_.size());
+    Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
+    getModel(camera, kCam, p);
+    getModel(out.projector.projector, kProj, p);
+    const sl_projector::RigidTransform inv = out.projector.pose.inverse();
+    p.segment<3>(kPose) = vectorOf(inv.rotation);
+    p.segment<3>(kPose + 3) = inv.translation;
+    for (size_t j = 0; j < board_views_.size(); ++j)
+    {
+      p.segment<3>(kBoards + 6 * static_cast<long>(j)) = vectorOf(board_poses[j].rotation);
+      p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3) = board_poses[j].translation;
+    }
+    std::vector<bool> free(static_cast<size_t>(n), true);
+    for (int i = 0; i < 9; ++i)
+      free[static_cast<size_t>(kCam + i)] = !camera_given_;
+    free[kCam + 8] = free[kCam + 8] && !options_.camera.fix_k3;
+    if (options_.camera.zero_tangential)
+      free[kCam + 6] = free[kCam + 7] = false;
+    free[kProj + 8] = !options_.projector.fix_k3;
+    if (options_.projector.zero_tangential)
+      free[kProj + 6] = free[kProj + 7] = false;
+    const std::vector<cv::Point3f> object = board_.objectPoints();
+    LevenbergMarquardt lm;
+    lm.max_iterations = options_.max_iterations;
+    lm.minimize(
+        [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
+          jointResiduals(q, board_views_, object, prims, camera, out.projector.projector, r);
+        },
+        free, p);
+    if (p.allFinite() && p(kCam) > 0.0 && p(kCam + 1) > 0.0 && p(kProj) > 0.0 && p(kProj + 1) > 0.0)
+    {
+      Eigen::VectorXd r;
+      jointResiduals(p, board_views_, object, prims, camera, out.projector.projector, r);
+      setModel(p, kCam, out.camera.camera);
+      setModel(p, kProj, out.projector.projector);
+      sl_projector::RigidTransform pf;
+      pf.rotation = rotationOf(p.segment<3>(kPose));
+      pf.translation = p.segment<3>(kPose + 3);
+      out.projector.pose = pf.inverse();
+      long k = 0;
+      double all = 0.0;
+      for (size_t j = 0; j < board_views_.size(); ++j)
+      {
+        board_poses[j].rotation = rotationOf(p.segment<3>(kBoards + 6 * static_cast<long>(j)));
+        board_poses[j].translation = p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3);
+        double s2 = 0.0;
+        for (size_t i = 0; i < object.size(); ++i, k += 2)
+          s2 += r(k) * r(k) + r(k + 1) * r(k + 1);
+        all += s2;
+        out.camera.view_rms[j] = std::sqrt(s2 / object.size());
+      }
+      out.camera.rms = std::sqrt(all / std::max<size_t>(1, board_views_.size() * object.size()));
+      out.camera.board_poses = board_poses;
+      std::map<int, std::pair<double, int>> acc;
+      double sp = 0.0;
+      for (const JointPrimitive& q : prims)
+      {
+        const double e2 = r(k) * r(k) + r(k + 1) * r(k + 1);
+        k += 2;
+        sp += e2;
+        acc[q.view].first += e2;
+        ++acc[q.view].second;
+      }
+      out.projector.rms = std::sqrt(sp / std::max<size_t>(1, prims.size()));
+      for (const auto& a : acc)
+        out.projector.view_rms[static_cast<size_t>(a.first)] = std::sqrt(a.second.first / a.second.second);
+      out.refined = true;
+    }
+  }
+
+  rig.camera = out.camera.camera;
   rig.projector = out.projector.projector;
   rig.projector_pose = out.projector.pose;
   try
@@ -234,6 +423,8 @@ std::string model(const sl_projector::PinholeModel& m)
 std::string FullCalibrationResult::summary() const
 {
   std::ostringstream o;
+  if (refined)
+    o << "(after the joint refinement of camera, projector, pose and board poses)\n";
   o << "camera (" << (camera_calibrated ? "calibrated" : "given") << "): " << model(camera.camera) << "\n";
   if (camera_calibrated)
     o << "  reprojection error " << fixed(camera.rms, 3) << " px rms over " << camera_views.size() << " board views\n";

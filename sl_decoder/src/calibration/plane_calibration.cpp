@@ -268,11 +268,19 @@ int PlaneCalibration::groupFor(double distance)
 int PlaneCalibration::addSamples(double distance, const std::vector<PrimitiveSample>& samples, const std::string& source)
 {
   if (!std::isfinite(distance) || distance <= 0.0)
-    throw CalibrationError((source.empty() ? std::string("image") : source) +
-                           ": the plane distance must be a positive number of metres, got " + std::to_string(distance));
+  {
+    std::ostringstream o;
+    o << (source.empty() ? std::string("image") : source) << ": the plane distance must be a positive number of metres, got "
+      << distance;
+    throw CalibrationError(o.str());
+  }
   if (distance > 20.0)
-    throw CalibrationError((source.empty() ? std::string("image") : source) + ": a plane distance of " +
-                           std::to_string(distance) + " is not metres (mm given?)");
+  {
+    std::ostringstream o;
+    o << (source.empty() ? std::string("image") : source) << ": a plane distance of " << distance
+      << " is not metres (mm given?)";
+    throw CalibrationError(o.str());
+  }
   Group& g = groups_[static_cast<size_t>(groupFor(distance))];
   ++g.images;
   ++images_;

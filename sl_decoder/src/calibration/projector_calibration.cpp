@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
+#include <set>
 
 #include <Eigen/Dense>
+#include <opencv2/core.hpp>
 
 #include "sl_decoder/calibration/optimizer.h"
 
@@ -30,6 +33,7 @@ std::vector<ProjectorCorrespondence> projectorCorrespondences(const sl_projector
       continue;
     const cv::Point2d q = pattern.primitiveCentroid(s.row, s.col);
     c.projector = Eigen::Vector2d(q.x, q.y);
+    c.pixel = Eigen::Vector2d(s.u, s.v);
     c.view = view;
     c.row = s.row;
     c.col = s.col;
@@ -76,22 +80,31 @@ bool linearEstimate(const std::vector<ProjectorCorrespondence>& corr, Eigen::Mat
   }
   s3 = std::sqrt(3.0) * static_cast<double>(n) / s3;
   s2 = std::sqrt(2.0) * static_cast<double>(n) / s2;
-  Eigen::MatrixXd A(2 * n, 12);
+  // The null vector of the 2n x 12 system, as the eigenvector of A^T A with the smallest eigenvalue
+  // (well conditioned after the normalisation).
+  Eigen::Matrix<double, 12, 12> AtA = Eigen::Matrix<double, 12, 12>::Zero();
   for (size_t i = 0; i < n; ++i)
   {
     const Eigen::Vector3d X = s3 * (corr[i].point - c3);
     const Eigen::Vector2d x = s2 * (corr[i].projector - c2);
-    Eigen::Matrix<double, 1, 4> Xh;
-    Xh << X.transpose(), 1.0;
-    const long r = static_cast<long>(2 * i);
-    A.row(r) << Xh, Eigen::Matrix<double, 1, 4>::Zero(), -x.x() * Xh;
-    A.row(r + 1) << Eigen::Matrix<double, 1, 4>::Zero(), Xh, -x.y() * Xh;
+    Eigen::Matrix<double, 4, 1> Xh;
+    Xh << X, 1.0;
+    Eigen::Matrix<double, 12, 1> r1, r2;
+    r1 << Xh, Eigen::Matrix<double, 4, 1>::Zero(), -x.x() * Xh;
+    r2 << Eigen::Matrix<double, 4, 1>::Zero(), Xh, -x.y() * Xh;
+    AtA.noalias() += r1 * r1.transpose() + r2 * r2.transpose();
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinV);
-  const Eigen::VectorXd sv = svd.singularValues();
-  if (sv(10) < 1e-9 * sv(0))
+  cv::Mat AtA_cv(12, 12, CV_64F), values, vectors;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j)
+      AtA_cv.at<double>(i, j) = AtA(i, j);
+  if (!cv::eigen(AtA_cv, values, vectors))  // descending eigenvalues, eigenvectors as rows
+    return false;
+  if (values.at<double>(10) < 1e-12 * values.at<double>(0))
     return false;  // coplanar points: the projection is not determined
-  const Eigen::VectorXd p = svd.matrixV().col(11);
+  Eigen::Matrix<double, 12, 1> p;
+  for (int i = 0; i < 12; ++i)
+    p(i) = vectors.at<double>(11, i);
   Eigen::Matrix<double, 3, 4> Pn;
   Pn << p.segment<4>(0).transpose(), p.segment<4>(4).transpose(), p.segment<4>(8).transpose();
   // Undo the normalisation: P = T2^-1 Pn T3.
@@ -108,20 +121,26 @@ bool linearEstimate(const std::vector<ProjectorCorrespondence>& corr, Eigen::Mat
     P = -P;
     M = -M;
   }
-  // RQ decomposition M = K R through the QR decomposition of the row-flipped transpose.
-  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
-  F(0, 2) = F(1, 1) = F(2, 0) = 1.0;
-  Eigen::HouseholderQR<Eigen::Matrix3d> qr((F * M).transpose());
-  const Eigen::Matrix3d Q = qr.householderQ();
-  const Eigen::Matrix3d Rq = qr.matrixQR().triangularView<Eigen::Upper>();
-  K = F * Rq.transpose() * F;
-  R = F * Q.transpose();
-  for (int i = 0; i < 3; ++i)
-    if (K(i, i) < 0.0)
-    {
-      K.col(i) *= -1.0;
-      R.row(i) *= -1.0;
-    }
+  // RQ decomposition M = K R by Gram-Schmidt from the last row up (K upper triangular, positive diagonal).
+  K.setZero();
+  R.setZero();
+  Eigen::Vector3d r3 = M.row(2).transpose();
+  K(2, 2) = r3.norm();
+  r3 /= K(2, 2);
+  Eigen::Vector3d r2 = M.row(1).transpose();
+  K(1, 2) = r2.dot(r3);
+  r2 -= K(1, 2) * r3;
+  K(1, 1) = r2.norm();
+  r2 /= K(1, 1);
+  Eigen::Vector3d r1 = M.row(0).transpose();
+  K(0, 2) = r1.dot(r3);
+  K(0, 1) = r1.dot(r2);
+  r1 -= K(0, 2) * r3 + K(0, 1) * r2;
+  K(0, 0) = r1.norm();
+  r1 /= K(0, 0);
+  R.row(0) = r1.transpose();
+  R.row(1) = r2.transpose();
+  R.row(2) = r3.transpose();
   if (R.determinant() < 0.0)
     return false;
   t = K.inverse() * P.col(3);
@@ -197,6 +216,7 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
   for (const ProjectorCorrespondence& c : correspondences)
     ++per_view[c.view];
   std::vector<ProjectorCorrespondence> corr;
+  std::vector<size_t> source;  // index of each used correspondence in the input
   std::string weak;
   int views = 0;
   for (const auto& v : per_view)
@@ -206,19 +226,61 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
     else
       weak += " view " + std::to_string(v.first) + " has only " + std::to_string(v.second) + " decoded primitives;";
   }
-  for (const ProjectorCorrespondence& c : correspondences)
-    if (per_view[c.view] >= options.min_points_per_view)
-      corr.push_back(c);
+  for (size_t i = 0; i < correspondences.size(); ++i)
+    if (per_view[correspondences[i].view] >= options.min_points_per_view)
+    {
+      corr.push_back(correspondences[i]);
+      source.push_back(i);
+    }
   if (views < options.min_views)
     throw CalibrationError("projector calibration needs >= " + std::to_string(options.min_views) +
                            " plane poses with the decoded pattern (at least " +
                            std::to_string(options.min_points_per_view) + " primitives each), got " +
                            std::to_string(views) + (weak.empty() ? std::string() : ":" + weak));
 
+  // Linear estimate inside RANSAC: wrong decodes (a primitive taken for another) must not bias it.
   Eigen::Matrix3d K, R;
   Eigen::Vector3d t;
-  if (!linearEstimate(corr, K, R, t))
-    throw CalibrationError("projector calibration: the linear estimate failed (are all plane poses the same plane?)");
+  std::vector<ProjectorCorrespondence> consensus;
+  {
+    std::mt19937 rng(12345);  // deterministic: the same data give the same calibration
+    std::uniform_int_distribution<size_t> pick(0, corr.size() - 1);
+    const double gate = std::max(5.0, 2.0 * options.outlier_px);
+    size_t best = 0;
+    for (int it = 0; it < 200; ++it)
+    {
+      std::vector<ProjectorCorrespondence> sample;
+      std::set<int> sample_views;
+      for (int k = 0; k < 8; ++k)
+      {
+        sample.push_back(corr[pick(rng)]);
+        sample_views.insert(sample.back().view);
+      }
+      if (sample_views.size() < 2)
+        continue;
+      Eigen::Matrix3d Ks, Rs;
+      Eigen::Vector3d ts;
+      if (!linearEstimate(sample, Ks, Rs, ts))
+        continue;
+      std::vector<ProjectorCorrespondence> in;
+      for (const ProjectorCorrespondence& c : corr)
+      {
+        const Eigen::Vector3d q = Ks * (Rs * c.point + ts);
+        if (q.z() > 0.0 && (Eigen::Vector2d(q.x() / q.z(), q.y() / q.z()) - c.projector).norm() < gate)
+          in.push_back(c);
+      }
+      if (in.size() > best)
+      {
+        best = in.size();
+        consensus.swap(in);
+        if (best > 0.9 * corr.size())
+          break;
+      }
+    }
+  }
+  if (consensus.size() < 12 || !linearEstimate(consensus, K, R, t))
+    throw CalibrationError("projector calibration: no consistent linear estimate (are all plane poses the same plane, "
+                           "or is most of the pattern decoded wrongly?)");
 
   Eigen::VectorXd params = Eigen::VectorXd::Zero(kParams);
   params << K(0, 0), K(1, 1), K(0, 2), K(1, 2), 0, 0, 0, 0, 0, vectorFromRotation(R), t;
@@ -226,33 +288,51 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
   free[8] = !options.fix_k3;
   if (options.zero_tangential)
     free[6] = free[7] = false;
-  // Pinhole first, then with distortion.
+  // Pinhole first, then with distortion, on the consensus set.
   std::vector<bool> pinhole(free);
   for (int i = 4; i < 9; ++i)
     pinhole[static_cast<size_t>(i)] = false;
-  fit(corr, width, height, pinhole, options.max_iterations, params);
-  fit(corr, width, height, free, options.max_iterations, params);
+  fit(consensus, width, height, pinhole, options.max_iterations, params);
+  fit(consensus, width, height, free, options.max_iterations, params);
 
-  // Drop outliers (wrong decodes, points off the plane) and fit again.
+  // Trim outliers (wrong decodes, points off the plane) against a robust scale and fit again, until
+  // the inlier set settles.
   sl_projector::PinholeModel m;
-  unpack(params, width, height, m, R, t);
   sl_projector::RigidTransform pose;
-  pose.rotation = R.transpose();
-  pose.translation = -R.transpose() * t;
-  std::vector<Eigen::Vector2d> res = projectorResiduals(corr, m, pose);
-  double s = 0.0;
-  for (const Eigen::Vector2d& e : res)
-    s += e.squaredNorm();
-  const double rms0 = std::sqrt(s / std::max<size_t>(1, res.size()));
-  const double limit = std::max(options.outlier_px, 4.0 * rms0);
   std::vector<ProjectorCorrespondence> inliers;
-  for (size_t i = 0; i < corr.size(); ++i)
-    if (std::isfinite(res[i].x()) && res[i].norm() <= limit)
-      inliers.push_back(corr[i]);
   ProjectorCalibrationResult out;
-  out.outliers = static_cast<int>(correspondences.size() - inliers.size());
-  if (inliers.size() < corr.size())
+  std::vector<bool> keep;
+  for (int round = 0; round < 4; ++round)
+  {
+    unpack(params, width, height, m, R, t);
+    pose.rotation = R.transpose();
+    pose.translation = -R.transpose() * t;
+    const std::vector<Eigen::Vector2d> res = projectorResiduals(corr, m, pose);
+    std::vector<double> norms;
+    for (const Eigen::Vector2d& e : res)
+      norms.push_back(std::isfinite(e.x()) ? e.norm() : 1e9);
+    std::vector<double> sorted(norms);
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    const double limit = std::max(options.outlier_px, 4.0 * median);
+    std::vector<bool> k(corr.size());
+    for (size_t i = 0; i < corr.size(); ++i)
+      k[i] = norms[i] <= limit;
+    if (k == keep)
+      break;
+    keep = k;
+    inliers.clear();
+    for (size_t i = 0; i < corr.size(); ++i)
+      if (keep[i])
+        inliers.push_back(corr[i]);
+    if (inliers.size() < 12)
+      throw CalibrationError("projector calibration failed: almost every correspondence is an outlier");
     fit(inliers, width, height, free, options.max_iterations, params);
+  }
+  out.inlier.assign(correspondences.size(), false);
+  for (size_t i = 0; i < corr.size(); ++i)
+    out.inlier[source[i]] = keep[i];
+  out.outliers = static_cast<int>(correspondences.size() - inliers.size());
   unpack(params, width, height, m, R, t);
   pose.rotation = R.transpose();
   pose.translation = -R.transpose() * t;
@@ -261,9 +341,9 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
 
   out.projector = m;
   out.pose = pose;
-  res = projectorResiduals(inliers, m, pose);
+  const std::vector<Eigen::Vector2d> res = projectorResiduals(inliers, m, pose);
   std::map<int, std::pair<double, int>> acc;
-  s = 0.0;
+  double s = 0.0;
   for (size_t i = 0; i < inliers.size(); ++i)
   {
     s += res[i].squaredNorm();
@@ -280,6 +360,12 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
     out.view_rms[static_cast<size_t>(a.first)] = std::sqrt(a.second.first / a.second.second);
     out.view_points[static_cast<size_t>(a.first)] = a.second.second;
   }
+  if (out.rms > options.max_rms)
+    throw CalibrationError("projector calibration failed: the reprojection error is " + fixed(out.rms, 2) +
+                           " px rms (more than " + fixed(options.max_rms, 2) +
+                           "): the pattern was decoded wrongly or the planes are wrong. Is the rig file far from "
+                           "the real rig (raise the epipolar tolerance)? Is the board flat on the plane, and the "
+                           "pattern on the same plane?");
   return out;
 }
 

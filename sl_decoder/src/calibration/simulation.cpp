@@ -90,6 +90,9 @@ CalibrationSimulator::CalibrationSimulator(const sl_projector::Rig& rig, const s
   : rig_(rig), settings_(settings), board_settings_(settings)
 {
   board_settings_.ambient = board_ambient;
+  // A real sensor integrates over the pixel: 16 rays on the board's edges keep the rendered corners
+  // about 0.1 px rms from the exact ones (4 rays leave errors up to 0.25 px).
+  board_settings_.antialias = 16;
   renderer_.reset(new sl_camera::Renderer(rig_, settings_));
   board_renderer_.reset(new sl_camera::Renderer(rig_, board_settings_));
   pattern_ = sl_projector::Pattern(rig_.pattern).render();

@@ -13,7 +13,7 @@ namespace
 {
 const char* kUsage =
     "usage: sl_eval [--calibration RIG.yaml] [--frames N] [--ambient X] [SCENE.yaml ...]\n"
-    "  renders each scene (default: every scene of sl_camera/scenes except the room) with the simulator's\n"
+    "  renders each scene (default: the prototype's test scenes in sl_camera/scenes) with the simulator's\n"
     "  default settings, decodes it with every depth model the rig supports, and prints per scene:\n"
     "  visible primitives, valid %, wrong correspondences, mean and max |depth error| (mm), and the\n"
     "  points on objects in front of the background.\n";
@@ -28,8 +28,9 @@ std::vector<std::string> defaultScenes()
   while (dirent* e = readdir(d))
   {
     const std::string name = e->d_name;
+    // The prototype's test scenes: not the room (closed-loop demo) nor the calibration boards.
     if (name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0 && name.find("room") == std::string::npos &&
-        name.find("checkerboard") == std::string::npos)
+        name.find("checkerboard") == std::string::npos && name.rfind("calib", 0) != 0)
       out.push_back(dir + "/" + name);
   }
   closedir(d);

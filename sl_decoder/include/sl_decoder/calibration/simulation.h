@@ -55,8 +55,10 @@ sl_camera::Scene withoutTextures(const sl_camera::Scene& scene);
 /**
  * @brief Renders calibration images of a (true) rig.
  *
- * Pattern images use the simulator's default settings and the rig's pattern. Board images use the
- * same settings with the room lights on (ambient `board_ambient`) and the projector showing black.
+ * Pattern images use the given settings (default: the simulator's defaults) and the rig's pattern.
+ * Board images use the same settings with the room lights on (ambient `board_ambient`), the
+ * projector showing black, and 16 rays per pixel on edges (a sensor integrates over its pixels; with
+ * 4 rays the rendered corners are off by up to 0.25 px).
  */
 class CalibrationSimulator
 {

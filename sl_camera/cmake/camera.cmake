@@ -1,0 +1,60 @@
+# Real cameras: V4L2 (OpenCV), GenICam through Aravis (optional), image folder / video player,
+# the capture thread, the sl_camera/camera nodelet and camera_node. Included by ../CMakeLists.txt.
+
+find_package(Threads REQUIRED)
+
+list(APPEND SL_CAMERA_CORE_SOURCES
+  src/camera/mono8.cpp
+  src/camera/player_source.cpp
+  src/camera/v4l2_source.cpp
+  src/camera/capture_thread.cpp
+  src/camera/camera_config.cpp
+)
+list(APPEND SL_CAMERA_CORE_LIBRARIES Threads::Threads)
+
+# Aravis (libaravis-dev) is optional: without it the aravis back-end is left out and the nodelet
+# refuses backend:=aravis with a message saying so.
+pkg_check_modules(ARAVIS QUIET IMPORTED_TARGET aravis-0.8)
+if(ARAVIS_FOUND)
+  message(STATUS "sl_camera: Aravis ${ARAVIS_VERSION} found, building the GenICam (aravis) camera back-end")
+  list(APPEND SL_CAMERA_CORE_SOURCES src/camera/aravis_source.cpp)
+  list(APPEND SL_CAMERA_CORE_LIBRARIES PkgConfig::ARAVIS)
+  set_source_files_properties(src/camera/camera_config.cpp PROPERTIES COMPILE_DEFINITIONS SL_CAMERA_HAVE_ARAVIS)
+else()
+  message(STATUS "sl_camera: aravis-0.8 not found by pkg-config, building without the GenICam (aravis) camera back-end "
+                 "(install libaravis-dev to add it)")
+endif()
+
+list(APPEND SL_CAMERA_NODELET_SOURCES src/nodelets/camera_nodelet.cpp)
+
+list(APPEND SL_CAMERA_TEST_SOURCES
+  test/camera_player_test.cpp
+  test/camera_capture_thread_test.cpp
+  test/camera_v4l2_test.cpp
+  test/camera_config_test.cpp
+)
+if(ARAVIS_FOUND)
+  list(APPEND SL_CAMERA_TEST_SOURCES test/camera_aravis_test.cpp)
+endif()
+
+# Executables (after the libraries exist).
+function(sl_camera_camera_targets)
+  add_executable(camera_node src/camera_node.cpp)
+  target_include_directories(camera_node PRIVATE ${catkin_INCLUDE_DIRS})
+  target_link_libraries(camera_node ${catkin_LIBRARIES})
+  install(TARGETS camera_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+endfunction()
+
+# Rostests (with CATKIN_ENABLE_TESTING).
+function(sl_camera_camera_tests)
+  add_rostest_gtest(camera_player_rostest test/camera_player.test test/camera_player_rostest.cpp)
+  target_include_directories(camera_player_rostest PRIVATE ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
+  target_link_libraries(camera_player_rostest ${catkin_LIBRARIES} ${OpenCV_LIBS})
+  add_dependencies(camera_player_rostest camera_node sl_camera_nodelets)
+  if(ARAVIS_FOUND)
+    add_rostest_gtest(camera_aravis_rostest test/camera_aravis.test test/camera_aravis_rostest.cpp)
+    target_include_directories(camera_aravis_rostest PRIVATE ${catkin_INCLUDE_DIRS})
+    target_link_libraries(camera_aravis_rostest ${catkin_LIBRARIES})
+    add_dependencies(camera_aravis_rostest camera_node sl_camera_nodelets)
+  endif()
+endfunction()

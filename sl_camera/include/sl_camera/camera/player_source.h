@@ -1,0 +1,85 @@
+/**
+ * @file
+ * Replays a folder of images or a video file at a set rate (offline data).
+ */
+#ifndef SL_CAMERA_CAMERA_PLAYER_SOURCE_H
+#define SL_CAMERA_CAMERA_PLAYER_SOURCE_H
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sl_camera/camera/frame_source.h"
+
+namespace cv
+{
+class VideoCapture;
+}
+
+namespace sl_camera
+{
+
+/**
+ * A FrameSource that replays recorded data:
+ * - a folder: every image in it (extensions png, jpg, jpeg, pgm, ppm, pnm, bmp, tif, tiff, any
+ *   case; other files are ignored) in byte-wise order of the file names, so number them with
+ *   leading zeros;
+ * - an image file: that one image;
+ * - any other file: a video, read with OpenCV's FFmpeg back-end (or its own MJPEG reader).
+ *
+ * Frames are paced at @p rate Hz; at the end the player starts over when @p loop is set and
+ * otherwise reports GrabStatus::EndOfStream. Images are converted to mono8 (colour to luma, 16 bit
+ * to its top 8 bits). Stamps are the replay time; sequence numbers count the frames delivered.
+ * An image that cannot be decoded gives a CameraError of kind Frame naming the file; the next
+ * grab() continues with the next image. An image that no longer exists gives one of kind Lost (the
+ * capture thread then opens, i.e. lists, the folder again).
+ */
+class PlayerSource : public FrameSource
+{
+public:
+  /**
+   * @param path folder, image file or video file
+   * @param rate replay rate, Hz (> 0)
+   * @param loop start over after the last frame
+   * @throws std::invalid_argument when rate is not > 0
+   */
+  PlayerSource(const std::string& path, double rate, bool loop);
+  ~PlayerSource() override;
+
+  std::string description() const override;
+  /** Lists the folder (or opens the video); @throws CameraError naming the path. */
+  void open() override;
+  GrabStatus grab(Frame& frame, std::chrono::milliseconds timeout) override;
+  void close() override;
+  bool isOpen() const override;
+  double nominalRate() const override;
+
+  /** The images found by open(), in replay order (empty for a video). */
+  const std::vector<std::string>& files() const
+  {
+    return files_;
+  }
+
+  /** True if @p path has one of the image extensions listed above. */
+  static bool isImageFile(const std::string& path);
+
+private:
+  bool openVideo();
+  bool readVideoFrame(cv::Mat& image);
+
+  std::string path_;
+  double rate_;
+  bool loop_;
+  bool open_ = false;
+  std::vector<std::string> files_;
+  std::unique_ptr<cv::VideoCapture> video_;
+  cv::Mat video_frame_;
+  std::size_t next_index_ = 0;
+  std::uint64_t sequence_ = 0;
+  bool started_ = false;
+  std::chrono::steady_clock::time_point next_due_;
+};
+
+}  // namespace sl_camera
+
+#endif  // SL_CAMERA_CAMERA_PLAYER_SOURCE_H

@@ -1,0 +1,451 @@
+#include "sl_camera/camera/aravis_source.h"
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <sstream>
+
+#include <arv.h>
+#include <opencv2/imgproc.hpp>
+
+#include "sl_camera/camera/mono8.h"
+
+namespace sl_camera
+{
+
+namespace
+{
+// Buffers queued in the stream: enough to ride out a slow consumer for a few frames.
+constexpr int kStreamBuffers = 8;
+
+/** Takes the message out of a GError (and frees it); "" when there was none. */
+std::string takeError(GError*& error)
+{
+  if (!error)
+    return std::string();
+  std::string message = error->message ? error->message : "unknown error";
+  g_clear_error(&error);
+  return message;
+}
+
+const char* bufferStatusName(ArvBufferStatus status)
+{
+  switch (status)
+  {
+    case ARV_BUFFER_STATUS_SUCCESS:
+      return "success";
+    case ARV_BUFFER_STATUS_CLEARED:
+      return "cleared";
+    case ARV_BUFFER_STATUS_TIMEOUT:
+      return "timeout before all packets arrived";
+    case ARV_BUFFER_STATUS_MISSING_PACKETS:
+      return "missing packets";
+    case ARV_BUFFER_STATUS_WRONG_PACKET_ID:
+      return "wrong packet id";
+    case ARV_BUFFER_STATUS_SIZE_MISMATCH:
+      return "image larger than the buffer";
+    case ARV_BUFFER_STATUS_FILLING:
+      return "still filling";
+    case ARV_BUFFER_STATUS_ABORTED:
+      return "aborted";
+    default:
+      return "unknown status";
+  }
+}
+
+void onControlLost(ArvDevice* /*device*/, gpointer flag)
+{
+  static_cast<std::atomic<bool>*>(flag)->store(true);
+}
+}  // namespace
+
+struct AravisSource::Impl
+{
+  ArvCamera* camera = nullptr;
+  ArvStream* stream = nullptr;
+  gulong lost_handler = 0;
+  std::atomic<bool> control_lost{ false };
+  double nominal_rate = 0.0;
+  cv::Mat converted;
+};
+
+AravisSource::AravisSource(const std::string& camera_id, const SourceSettings& settings)
+  : camera_id_(camera_id), settings_(settings), impl_(new Impl)
+{
+}
+
+AravisSource::~AravisSource()
+{
+  close();
+}
+
+std::string AravisSource::description() const
+{
+  return camera_id_.empty() ? std::string("Aravis camera (first found)") : "Aravis camera " + camera_id_;
+}
+
+bool AravisSource::isOpen() const
+{
+  return impl_->camera != nullptr;
+}
+
+double AravisSource::nominalRate() const
+{
+  return impl_->nominal_rate;
+}
+
+void AravisSource::open()
+{
+  close();
+  GError* error = nullptr;
+  ArvCamera* camera = nullptr;
+  {
+    // Aravis' interface and device lists are process-wide: one discovery at a time.
+    static std::mutex discovery_mutex;
+    std::lock_guard<std::mutex> lock(discovery_mutex);
+    if (camera_id_.rfind("Fake", 0) == 0)
+      arv_enable_interface("Fake");
+    camera = arv_camera_new(camera_id_.empty() ? nullptr : camera_id_.c_str(), &error);
+  }
+  if (!camera)
+  {
+    const bool not_found = error && error->domain == ARV_DEVICE_ERROR && error->code == ARV_DEVICE_ERROR_NOT_FOUND;
+    const std::string message = takeError(error);
+    if (not_found || message.empty())
+      throw CameraError(CameraError::Kind::NotFound,
+                        (camera_id_.empty() ? std::string("no GenICam camera found") : description() + " not found") +
+                            " (`arv-tool-0.8` lists the cameras Aravis sees)");
+    throw CameraError(CameraError::Kind::Open, "cannot open " + description() + ": " + message);
+  }
+  impl_->camera = camera;
+  impl_->control_lost = false;
+  ArvDevice* device = arv_camera_get_device(camera);
+  if (device)
+    impl_->lost_handler = g_signal_connect(device, "control-lost", G_CALLBACK(onControlLost), &impl_->control_lost);
+
+  const SourceSettings& s = settings_;
+  auto note = [this](const std::string& what, GError*& e) {
+    const std::string m = takeError(e);
+    if (!m.empty())
+      warn(description() + ": " + what + ": " + m);
+  };
+
+  // Pixel format: Mono8 when offered.
+  {
+    guint n = 0;
+    const char** formats = arv_camera_dup_available_pixel_formats_as_strings(camera, &n, &error);
+    bool has_mono8 = false;
+    for (guint i = 0; formats && i < n; ++i)
+      has_mono8 = has_mono8 || (formats[i] && std::string(formats[i]) == "Mono8");
+    g_free(formats);
+    takeError(error);
+    if (has_mono8)
+    {
+      arv_camera_set_pixel_format(camera, ARV_PIXEL_FORMAT_MONO_8, &error);
+      note("cannot select Mono8", error);
+    }
+  }
+
+  // Region of interest, centred on the sensor.
+  if (s.width > 0 || s.height > 0)
+  {
+    gint sensor_w = 0, sensor_h = 0, x = 0, y = 0, w = 0, h = 0;
+    arv_camera_get_sensor_size(camera, &sensor_w, &sensor_h, &error);
+    takeError(error);
+    arv_camera_get_region(camera, &x, &y, &w, &h, &error);
+    takeError(error);
+    const gint want_w = s.width > 0 ? s.width : w;
+    const gint want_h = s.height > 0 ? s.height : h;
+    gint want_x = 0, want_y = 0;
+    if (arv_camera_is_region_offset_available(camera, &error) && sensor_w >= want_w && sensor_h >= want_h)
+    {
+      const gint inc_x = std::max(1, static_cast<int>(arv_camera_get_x_offset_increment(camera, nullptr)));
+      const gint inc_y = std::max(1, static_cast<int>(arv_camera_get_y_offset_increment(camera, nullptr)));
+      want_x = (sensor_w - want_w) / 2 / inc_x * inc_x;
+      want_y = (sensor_h - want_h) / 2 / inc_y * inc_y;
+    }
+    takeError(error);
+    arv_camera_set_region(camera, want_x, want_y, want_w, want_h, &error);
+    note("cannot set the region", error);
+    arv_camera_get_region(camera, &x, &y, &w, &h, &error);
+    takeError(error);
+    if (w != want_w || h != want_h)
+    {
+      std::ostringstream msg;
+      msg << description() << ": asked for " << want_w << " x " << want_h << " px, the camera delivers " << w << " x "
+          << h << " px";
+      warn(msg.str());
+    }
+  }
+
+  // Frame rate.
+  if (arv_camera_is_frame_rate_available(camera, &error))
+  {
+    double lo = 0.0, hi = 0.0;
+    arv_camera_get_frame_rate_bounds(camera, &lo, &hi, &error);
+    takeError(error);
+    double rate = s.rate;
+    if (hi > lo && (rate < lo || rate > hi))
+    {
+      rate = std::min(std::max(rate, lo), hi);
+      std::ostringstream msg;
+      msg << description() << ": frame rate " << s.rate << " Hz outside " << lo << ".." << hi << " Hz, using " << rate;
+      warn(msg.str());
+    }
+    arv_camera_set_frame_rate(camera, rate, &error);
+    note("cannot set the frame rate", error);
+  }
+  else
+  {
+    takeError(error);
+    warn(description() + ": no frame rate control; the camera runs at its own rate");
+  }
+  impl_->nominal_rate = std::max(0.0, arv_camera_get_frame_rate(camera, &error));
+  takeError(error);
+
+  // Exposure (GenICam ExposureTime is in us).
+  const bool exposure_auto = arv_camera_is_exposure_auto_available(camera, &error);
+  takeError(error);
+  if (s.exposure > 0.0)
+  {
+    if (exposure_auto)
+    {
+      arv_camera_set_exposure_time_auto(camera, ARV_AUTO_OFF, &error);
+      note("cannot switch exposure auto off", error);
+    }
+    if (arv_camera_is_exposure_time_available(camera, &error))
+    {
+      double lo = 0.0, hi = 0.0;
+      arv_camera_get_exposure_time_bounds(camera, &lo, &hi, &error);
+      takeError(error);
+      double us = s.exposure * 1e6;
+      if (hi > lo && (us < lo || us > hi))
+      {
+        us = std::min(std::max(us, lo), hi);
+        std::ostringstream msg;
+        msg << description() << ": exposure " << s.exposure << " s outside " << lo * 1e-6 << ".." << hi * 1e-6
+            << " s, using " << us * 1e-6 << " s";
+        warn(msg.str());
+      }
+      arv_camera_set_exposure_time(camera, us, &error);
+      note("cannot set the exposure time", error);
+    }
+    else
+    {
+      takeError(error);
+      warn(description() + ": no exposure time control; exposure ignored");
+    }
+  }
+  else if (exposure_auto)
+  {
+    arv_camera_set_exposure_time_auto(camera, ARV_AUTO_CONTINUOUS, &error);
+    note("cannot switch exposure auto on", error);
+  }
+
+  // Gain (dB).
+  const bool gain_auto = arv_camera_is_gain_auto_available(camera, &error);
+  takeError(error);
+  if (s.gain >= 0.0)
+  {
+    if (gain_auto)
+    {
+      arv_camera_set_gain_auto(camera, ARV_AUTO_OFF, &error);
+      note("cannot switch gain auto off", error);
+    }
+    if (arv_camera_is_gain_available(camera, &error))
+    {
+      double lo = 0.0, hi = 0.0;
+      arv_camera_get_gain_bounds(camera, &lo, &hi, &error);
+      takeError(error);
+      double gain = s.gain;
+      if (hi > lo && (gain < lo || gain > hi))
+      {
+        gain = std::min(std::max(gain, lo), hi);
+        std::ostringstream msg;
+        msg << description() << ": gain " << s.gain << " dB outside " << lo << ".." << hi << " dB, using " << gain;
+        warn(msg.str());
+      }
+      arv_camera_set_gain(camera, gain, &error);
+      note("cannot set the gain", error);
+    }
+    else
+    {
+      takeError(error);
+      warn(description() + ": no gain control; gain ignored");
+    }
+  }
+  else if (gain_auto)
+  {
+    arv_camera_set_gain_auto(camera, ARV_AUTO_CONTINUOUS, &error);
+    note("cannot switch gain auto on", error);
+  }
+
+  if (arv_camera_is_gv_device(camera))
+  {
+    arv_camera_gv_auto_packet_size(camera, &error);
+    takeError(error);
+  }
+
+  // Stream: one set of buffers for the whole run, continuous acquisition.
+  arv_camera_set_acquisition_mode(camera, ARV_ACQUISITION_MODE_CONTINUOUS, &error);
+  note("cannot select continuous acquisition", error);
+  impl_->stream = arv_camera_create_stream(camera, nullptr, nullptr, &error);
+  if (!impl_->stream)
+  {
+    const std::string message = takeError(error);
+    close();
+    throw CameraError(CameraError::Kind::Open, "cannot create a stream for " + description() + ": " + message);
+  }
+  const guint payload = arv_camera_get_payload(camera, &error);
+  const std::string payload_error = takeError(error);
+  if (payload == 0)
+  {
+    close();
+    throw CameraError(CameraError::Kind::Open, description() + ": cannot read the payload size: " + payload_error);
+  }
+  for (int i = 0; i < kStreamBuffers; ++i)
+    arv_stream_push_buffer(impl_->stream, arv_buffer_new_allocate(payload));
+  arv_camera_start_acquisition(camera, &error);
+  const std::string start_error = takeError(error);
+  if (!start_error.empty())
+  {
+    close();
+    throw CameraError(CameraError::Kind::Open, "cannot start acquisition on " + description() + ": " + start_error);
+  }
+}
+
+GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
+{
+  if (!impl_->camera || !impl_->stream)
+    throw CameraError(CameraError::Kind::Lost, description() + ": not open");
+  if (impl_->control_lost)
+    throw CameraError(CameraError::Kind::Lost, description() + ": connection lost");
+
+  const guint64 timeout_us = static_cast<guint64>(std::max<std::int64_t>(0, timeout.count())) * 1000u;
+  ArvBuffer* buffer = arv_stream_timeout_pop_buffer(impl_->stream, timeout_us);
+  if (!buffer)
+  {
+    if (impl_->control_lost)
+      throw CameraError(CameraError::Kind::Lost, description() + ": connection lost");
+    return GrabStatus::Timeout;
+  }
+  // Give the buffer back to the stream however this ends.
+  struct Requeue
+  {
+    ArvStream* stream;
+    ArvBuffer* buffer;
+    ~Requeue()
+    {
+      arv_stream_push_buffer(stream, buffer);
+    }
+  } requeue{ impl_->stream, buffer };
+
+  const ArvBufferStatus status = arv_buffer_get_status(buffer);
+  if (status != ARV_BUFFER_STATUS_SUCCESS)
+    throw CameraError(CameraError::Kind::Frame,
+                      description() + ": incomplete frame (" + bufferStatusName(status) + ")");
+  size_t size = 0;
+  const void* data = arv_buffer_get_image_data(buffer, &size);
+  const int width = arv_buffer_get_image_width(buffer);
+  const int height = arv_buffer_get_image_height(buffer);
+  const ArvPixelFormat format = arv_buffer_get_image_pixel_format(buffer);
+  if (!data || width <= 0 || height <= 0)
+    throw CameraError(CameraError::Kind::Frame, description() + ": buffer without an image");
+
+  int cv_type = CV_8UC1;
+  int bits = 8;
+  int bayer = -1;
+  int colour = -1;
+  switch (format)
+  {
+    case ARV_PIXEL_FORMAT_MONO_8:
+      break;
+    case ARV_PIXEL_FORMAT_MONO_10:
+      cv_type = CV_16UC1, bits = 10;
+      break;
+    case ARV_PIXEL_FORMAT_MONO_12:
+      cv_type = CV_16UC1, bits = 12;
+      break;
+    case ARV_PIXEL_FORMAT_MONO_14:
+      cv_type = CV_16UC1, bits = 14;
+      break;
+    case ARV_PIXEL_FORMAT_MONO_16:
+      cv_type = CV_16UC1, bits = 16;
+      break;
+    // GenICam names the first two pixels of the first row, OpenCV the second and third of the second.
+    case ARV_PIXEL_FORMAT_BAYER_RG_8:
+      bayer = cv::COLOR_BayerBG2GRAY;
+      break;
+    case ARV_PIXEL_FORMAT_BAYER_BG_8:
+      bayer = cv::COLOR_BayerRG2GRAY;
+      break;
+    case ARV_PIXEL_FORMAT_BAYER_GR_8:
+      bayer = cv::COLOR_BayerGB2GRAY;
+      break;
+    case ARV_PIXEL_FORMAT_BAYER_GB_8:
+      bayer = cv::COLOR_BayerGR2GRAY;
+      break;
+    case ARV_PIXEL_FORMAT_RGB_8_PACKED:
+      cv_type = CV_8UC3, colour = cv::COLOR_RGB2GRAY;
+      break;
+    case ARV_PIXEL_FORMAT_BGR_8_PACKED:
+      cv_type = CV_8UC3, colour = cv::COLOR_BGR2GRAY;
+      break;
+    default:
+    {
+      std::ostringstream msg;
+      msg << description() << ": pixel format 0x" << std::hex << format
+          << " is not supported; select Mono8 (or Mono10/12/14/16, Bayer 8 bit, RGB8, BGR8) on the camera";
+      throw CameraError(CameraError::Kind::Frame, msg.str());
+    }
+  }
+  const size_t row_bytes = static_cast<size_t>(width) * CV_ELEM_SIZE(cv_type);
+  if (size < row_bytes * static_cast<size_t>(height))
+    throw CameraError(CameraError::Kind::Frame, description() + ": buffer smaller than its image");
+  const cv::Mat raw(height, width, cv_type, const_cast<void*>(data), row_bytes);
+  if (bayer >= 0)
+    cv::cvtColor(raw, frame.image, bayer);
+  else if (colour >= 0)
+    cv::cvtColor(raw, frame.image, colour);
+  else
+    toMono8(raw, frame.image, bits);
+
+  const guint64 system_ns = arv_buffer_get_system_timestamp(buffer);
+  frame.stamp = system_ns > 0 ? CaptureClock::time_point(std::chrono::duration_cast<CaptureClock::duration>(
+                                    std::chrono::nanoseconds(system_ns))) :
+                                CaptureClock::now();
+  frame.sequence = arv_buffer_get_frame_id(buffer);
+  frame.has_sequence = true;
+  return GrabStatus::Frame;
+}
+
+void AravisSource::close()
+{
+  Impl& d = *impl_;
+  if (d.camera)
+  {
+    GError* error = nullptr;
+    if (d.stream)
+    {
+      arv_camera_stop_acquisition(d.camera, &error);
+      takeError(error);  // a lost camera cannot be stopped; nothing else to do
+    }
+  }
+  if (d.stream)
+  {
+    g_object_unref(d.stream);  // stops the stream thread, frees the buffers
+    d.stream = nullptr;
+  }
+  if (d.camera)
+  {
+    ArvDevice* device = arv_camera_get_device(d.camera);
+    if (device && d.lost_handler)
+      g_signal_handler_disconnect(device, d.lost_handler);
+    d.lost_handler = 0;
+    g_object_unref(d.camera);
+    d.camera = nullptr;
+  }
+  d.nominal_rate = 0.0;
+}
+
+}  // namespace sl_camera

@@ -1,0 +1,317 @@
+#include "sl_camera/camera/capture_thread.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace sl_camera
+{
+
+const char* captureStateName(CaptureState state)
+{
+  switch (state)
+  {
+    case CaptureState::Idle:
+      return "idle";
+    case CaptureState::Opening:
+      return "opening";
+    case CaptureState::Streaming:
+      return "streaming";
+    case CaptureState::Reconnecting:
+      return "reconnecting";
+    case CaptureState::Finished:
+      return "finished";
+  }
+  return "unknown";
+}
+
+void CaptureOptions::validate() const
+{
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0.0) || !std::isfinite(v))
+      throw std::invalid_argument(std::string(name) + " must be a finite time > 0 s, got " + std::to_string(v));
+  };
+  positive(grab_timeout, "grab_timeout");
+  positive(initial_backoff, "initial_backoff");
+  positive(max_backoff, "max_backoff");
+  positive(stall_timeout, "stall_timeout");
+  if (!(gap_tolerance >= 1.0) || !std::isfinite(gap_tolerance))
+    throw std::invalid_argument("gap_tolerance must be a finite number >= 1, got " + std::to_string(gap_tolerance));
+}
+
+CaptureThread::CaptureThread(std::unique_ptr<FrameSource> source, const CaptureOptions& options,
+                             FrameCallback on_frame, EventCallback on_event)
+  : source_(std::move(source))
+  , description_(source_ ? source_->description() : std::string())
+  , options_(options)
+  , on_frame_(std::move(on_frame))
+  , on_event_(std::move(on_event))
+{
+  if (!source_)
+    throw std::invalid_argument("CaptureThread needs a frame source");
+  options_.validate();
+}
+
+CaptureThread::~CaptureThread()
+{
+  stop();
+  source_->close();
+}
+
+void CaptureThread::start()
+{
+  if (thread_.joinable())
+    return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_requested_ = false;
+  }
+  thread_ = std::thread(&CaptureThread::run, this);
+}
+
+void CaptureThread::stop()
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_requested_ = true;
+  }
+  wake_.notify_all();
+  // From a callback (the worker itself) only ask; the owner joins later.
+  if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id())
+    thread_.join();
+}
+
+CaptureState CaptureThread::state() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_.state;
+}
+
+CaptureStats CaptureThread::stats() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void CaptureThread::emit(const CaptureEvent& event)
+{
+  if (!on_event_)
+    return;
+  try
+  {
+    on_event_(event);
+  }
+  catch (...)
+  {
+    // A logging callback must not take the capture down.
+  }
+}
+
+void CaptureThread::setState(CaptureState state, const std::string& message)
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.state = state;
+    if (state != CaptureState::Reconnecting)
+      stats_.retry_in = 0.0;
+  }
+  emit(CaptureEvent{ CaptureEvent::Type::StateChanged, state, message, 0.0 });
+}
+
+void CaptureThread::fail(const std::string& message, double retry_in, bool count_open_failure)
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.state = CaptureState::Reconnecting;
+    stats_.last_error = message;
+    stats_.retry_in = retry_in;
+    if (count_open_failure)
+      ++stats_.open_failures;
+  }
+  emit(CaptureEvent{ CaptureEvent::Type::Error, CaptureState::Reconnecting, message, retry_in });
+}
+
+bool CaptureThread::waitFor(double seconds)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (std::isinf(seconds))
+    wake_.wait(lock, [this] { return stop_requested_; });
+  else
+    wake_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return stop_requested_; });
+  return !stop_requested_;
+}
+
+void CaptureThread::countGap(const Frame& frame)
+{
+  std::uint64_t lost = 0;
+  if (have_previous_)
+  {
+    if (frame.has_sequence)
+    {
+      // Counters that go backwards (wrap-around, camera reset) or jump absurdly are not losses.
+      const std::uint64_t step = frame.sequence - previous_sequence_;
+      if (frame.sequence > previous_sequence_ && step > 1 && step < 100000)
+        lost = step - 1;
+    }
+    else
+    {
+      double rate = 0.0;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        rate = stats_.nominal_rate;
+      }
+      const double dt = std::chrono::duration<double>(frame.stamp - previous_stamp_).count();
+      const double periods = dt * rate;
+      if (rate > 0.0 && periods > options_.gap_tolerance)
+        lost = static_cast<std::uint64_t>(std::llround(periods)) - 1;
+    }
+  }
+  have_previous_ = true;
+  previous_sequence_ = frame.sequence;
+  previous_stamp_ = frame.stamp;
+  std::lock_guard<std::mutex> lock(mutex_);
+  stats_.dropped += lost;
+  ++stats_.frames;
+}
+
+void CaptureThread::run()
+{
+  using Clock = std::chrono::steady_clock;
+  const auto grab_timeout = std::chrono::milliseconds(std::max<long>(1, std::lround(options_.grab_timeout * 1000.0)));
+  double backoff = options_.initial_backoff;
+  bool streamed = false;  // has the source delivered frames before (so that a new open is a reconnect)?
+
+  auto stopping = [this] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stop_requested_;
+  };
+  auto closeSource = [this] {
+    try
+    {
+      source_->close();
+    }
+    catch (...)
+    {
+      // closing a broken device may fail; it is released either way
+    }
+  };
+
+  while (!stopping())
+  {
+    setState(CaptureState::Opening, "opening " + description_);
+    try
+    {
+      source_->open();
+    }
+    catch (const std::exception& e)
+    {
+      closeSource();
+      const CameraError* ce = dynamic_cast<const CameraError*>(&e);
+      fail(ce ? std::string(e.what()) : "cannot open " + description_ + ": " + e.what(), backoff, true);
+      if (!waitFor(backoff))
+        break;
+      backoff = std::min(2.0 * backoff, options_.max_backoff);
+      continue;
+    }
+
+    for (const std::string& w : source_->takeWarnings())
+      emit(CaptureEvent{ CaptureEvent::Type::Warning, CaptureState::Opening, w, 0.0 });
+    const double rate = source_->nominalRate();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stats_.nominal_rate = rate;
+      if (streamed)
+        ++stats_.reconnects;
+    }
+    std::ostringstream msg;
+    msg << "streaming from " << description_;
+    if (rate > 0.0)
+      msg << " at " << rate << " Hz";
+    setState(CaptureState::Streaming, msg.str());
+    backoff = options_.initial_backoff;
+    have_previous_ = false;
+
+    Clock::time_point last_frame = Clock::now();
+    std::string lost_message;
+    bool finished = false;
+    while (!stopping())
+    {
+      GrabStatus status = GrabStatus::Timeout;
+      try
+      {
+        status = source_->grab(frame_, grab_timeout);
+      }
+      catch (const CameraError& e)
+      {
+        if (e.kind() != CameraError::Kind::Frame)
+        {
+          lost_message = e.what();
+          break;
+        }
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++stats_.dropped;
+          stats_.last_error = e.what();
+        }
+        emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming, e.what(), 0.0 });
+      }
+      catch (const std::exception& e)
+      {
+        lost_message = description_ + ": " + e.what();
+        break;
+      }
+
+      const Clock::time_point now = Clock::now();
+      if (status == GrabStatus::Frame)
+      {
+        streamed = true;
+        last_frame = now;
+        countGap(frame_);
+        if (on_frame_)
+        {
+          try
+          {
+            on_frame_(frame_);
+          }
+          catch (const std::exception& e)
+          {
+            emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming,
+                               std::string("frame callback failed: ") + e.what(), 0.0 });
+          }
+        }
+      }
+      else if (status == GrabStatus::EndOfStream)
+      {
+        finished = true;
+        break;
+      }
+      if (std::chrono::duration<double>(now - last_frame).count() > options_.stall_timeout)
+      {
+        std::ostringstream stall;
+        stall << description_ << ": no frame for " << options_.stall_timeout << " s";
+        lost_message = stall.str();
+        break;
+      }
+    }
+    closeSource();
+
+    if (finished)
+    {
+      setState(CaptureState::Finished, "end of " + description_);
+      waitFor(std::numeric_limits<double>::infinity());
+      break;
+    }
+    if (lost_message.empty())
+      break;  // stop requested
+    fail(lost_message, backoff, false);
+    if (!waitFor(backoff))
+      break;
+    backoff = std::min(2.0 * backoff, options_.max_backoff);
+  }
+  closeSource();
+  setState(CaptureState::Idle, "stopped capturing from " + description_);
+}
+
+}  // namespace sl_camera

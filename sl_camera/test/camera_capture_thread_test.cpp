@@ -1,0 +1,415 @@
+// CaptureThread: the state machine against a fake source that is missing, fails, vanishes and comes
+// back; counters; back-off; prompt stop.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "sl_camera/camera/capture_thread.h"
+
+using sl_camera::CameraError;
+using sl_camera::CaptureClock;
+using sl_camera::CaptureEvent;
+using sl_camera::CaptureOptions;
+using sl_camera::CaptureState;
+using sl_camera::CaptureThread;
+using sl_camera::Frame;
+using sl_camera::FrameSource;
+using sl_camera::GrabStatus;
+
+namespace
+{
+/// One scripted result of grab().
+struct Step
+{
+  enum Kind
+  {
+    Image,
+    Bad,
+    End
+  } kind;
+  std::uint64_t sequence = 0;
+  bool has_sequence = true;
+  double t = 0.0;  ///< stamp, s after the script's base time
+};
+
+/// What the test controls about the fake camera, shared with the source on the capture thread.
+struct FakeDevice
+{
+  std::atomic<bool> present{ true };
+  std::atomic<bool> stalled{ false };
+  std::atomic<int> opens{ 0 };
+  std::atomic<int> closes{ 0 };
+  double rate = 0.0;
+  bool warn_on_open = false;
+  bool free_run = true;  ///< after the script: frames forever (false: end of stream)
+  std::mutex mutex;
+  std::deque<Step> script;
+};
+
+class FakeSource : public FrameSource
+{
+public:
+  explicit FakeSource(std::shared_ptr<FakeDevice> device) : device_(std::move(device))
+  {
+  }
+  std::string description() const override
+  {
+    return "fake camera /dev/fake0";
+  }
+  void open() override
+  {
+    ++device_->opens;
+    if (!device_->present)
+      throw CameraError(CameraError::Kind::NotFound, "fake camera /dev/fake0 does not exist");
+    open_ = true;
+    if (device_->warn_on_open)
+      warn("fake camera /dev/fake0: gain ignored");
+  }
+  GrabStatus grab(Frame& frame, std::chrono::milliseconds timeout) override
+  {
+    if (!open_)
+      throw CameraError(CameraError::Kind::Lost, "fake camera /dev/fake0: not open");
+    if (!device_->present)
+      throw CameraError(CameraError::Kind::Lost, "fake camera /dev/fake0 disappeared");
+    if (device_->stalled)
+    {
+      std::this_thread::sleep_for(std::min(timeout, std::chrono::milliseconds(5)));
+      return GrabStatus::Timeout;
+    }
+    frame.image.create(4, 4, CV_8UC1);
+    Step step{ Step::Image, next_sequence_, true, 0.0 };
+    bool scripted = false;
+    {
+      std::lock_guard<std::mutex> lock(device_->mutex);
+      if (!device_->script.empty())
+      {
+        step = device_->script.front();
+        device_->script.pop_front();
+        scripted = true;
+      }
+    }
+    if (!scripted)
+    {
+      if (!device_->free_run)
+        return GrabStatus::EndOfStream;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    switch (step.kind)
+    {
+      case Step::Bad:
+        throw CameraError(CameraError::Kind::Frame, "fake camera /dev/fake0: incomplete frame");
+      case Step::End:
+        return GrabStatus::EndOfStream;
+      case Step::Image:
+        break;
+    }
+    frame.sequence = step.sequence;
+    frame.has_sequence = step.has_sequence;
+    frame.stamp = scripted ? base_ + std::chrono::duration_cast<CaptureClock::duration>(std::chrono::duration<double>(step.t)) :
+                             CaptureClock::now();
+    next_sequence_ = step.sequence + 1;
+    return GrabStatus::Frame;
+  }
+  void close() override
+  {
+    if (open_)
+      ++device_->closes;
+    open_ = false;
+  }
+  bool isOpen() const override
+  {
+    return open_;
+  }
+  double nominalRate() const override
+  {
+    return device_->rate;
+  }
+
+private:
+  std::shared_ptr<FakeDevice> device_;
+  bool open_ = false;
+  std::uint64_t next_sequence_ = 0;
+  CaptureClock::time_point base_ = CaptureClock::now();
+};
+
+/// Polls @p done until it holds or a generous timeout passes (never a timing assertion).
+bool waitUntil(const std::function<bool()>& done, double timeout_s = 20.0)
+{
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < end)
+  {
+    if (done())
+      return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return done();
+}
+
+CaptureOptions fastOptions()
+{
+  CaptureOptions o;
+  o.grab_timeout = 0.02;
+  o.initial_backoff = 0.005;
+  o.max_backoff = 0.02;
+  o.stall_timeout = 5.0;
+  return o;
+}
+
+/// Records events and frames delivered by a CaptureThread.
+struct Recorder
+{
+  std::mutex mutex;
+  std::vector<CaptureEvent> events;
+  std::vector<std::uint64_t> sequences;
+
+  CaptureThread::FrameCallback frames()
+  {
+    return [this](const Frame& f) {
+      std::lock_guard<std::mutex> lock(mutex);
+      sequences.push_back(f.sequence);
+    };
+  }
+  CaptureThread::EventCallback eventsCallback()
+  {
+    return [this](const CaptureEvent& e) {
+      std::lock_guard<std::mutex> lock(mutex);
+      events.push_back(e);
+    };
+  }
+  std::vector<CaptureEvent> eventsOf(CaptureEvent::Type type)
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::vector<CaptureEvent> out;
+    for (const auto& e : events)
+      if (e.type == type)
+        out.push_back(e);
+    return out;
+  }
+};
+}  // namespace
+
+TEST(CameraCaptureThread, MissingDeviceAtStartIsReportedAndRetriedUntilItAppears)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->present = false;
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
+                        rec.eventsCallback());
+  EXPECT_EQ(capture.state(), CaptureState::Idle);
+  capture.start();  // returns at once; opening happens on the worker
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 3; }));
+  sl_camera::CaptureStats s = capture.stats();
+  EXPECT_NE(s.state, CaptureState::Streaming);
+  EXPECT_EQ(s.frames, 0u);
+  EXPECT_NE(s.last_error.find("/dev/fake0 does not exist"), std::string::npos) << s.last_error;
+  const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors.front().message.find("/dev/fake0"), std::string::npos);
+  EXPECT_EQ(errors.front().state, CaptureState::Reconnecting);
+
+  device->present = true;
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 5; }));
+  s = capture.stats();
+  EXPECT_EQ(s.state, CaptureState::Streaming);
+  EXPECT_EQ(s.reconnects, 0u) << "the first successful open is not a reconnect";
+  EXPECT_EQ(s.dropped, 0u);
+  capture.stop();
+  EXPECT_EQ(capture.state(), CaptureState::Idle);
+  EXPECT_EQ(device->opens - 1, static_cast<int>(capture.stats().open_failures));
+  EXPECT_EQ(device->closes.load(), 1);
+}
+
+TEST(CameraCaptureThread, DeviceThatDisappearsIsReopenedWhenItComesBack)
+{
+  auto device = std::make_shared<FakeDevice>();
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
+                        rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 3; }));
+  EXPECT_EQ(device->opens.load(), 1) << "one initialisation for the whole stream";
+
+  device->present = false;  // unplugged
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 2; }));
+  sl_camera::CaptureStats s = capture.stats();
+  EXPECT_NE(s.state, CaptureState::Streaming);
+  EXPECT_EQ(s.reconnects, 0u);
+  const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors.front().message.find("/dev/fake0 disappeared"), std::string::npos) << errors.front().message;
+  EXPECT_GE(device->closes.load(), 1) << "a lost device is closed before it is opened again";
+  const std::uint64_t frames_before = s.frames;
+
+  device->present = true;  // plugged in again
+  ASSERT_TRUE(waitUntil([&] {
+    const auto st = capture.stats();
+    return st.reconnects == 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
+  }));
+  capture.stop();
+  s = capture.stats();
+  EXPECT_EQ(s.reconnects, 1u);
+  EXPECT_EQ(s.dropped, 0u);
+  EXPECT_EQ(device->opens.load(), static_cast<int>(2 + s.open_failures));
+  // The worker closed what it opened.
+  EXPECT_EQ(device->closes.load(), 2);
+}
+
+TEST(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->free_run = false;
+  for (std::uint64_t seq : { 10u, 11u, 12u, 15u, 16u })
+    device->script.push_back(Step{ Step::Image, seq, true, 0.0 });
+  device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });
+  device->script.push_back(Step{ Step::Image, 17, true, 0.0 });
+  device->script.push_back(Step{ Step::Image, 3, true, 0.0 });  // counter reset: not a loss
+  device->script.push_back(Step{ Step::Image, 4, true, 0.0 });
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
+                        rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.state() == CaptureState::Finished; }));
+  const sl_camera::CaptureStats s = capture.stats();
+  EXPECT_EQ(s.frames, 8u);
+  EXPECT_EQ(s.dropped, 2u + 1u);
+  EXPECT_EQ(s.reconnects, 0u);
+  EXPECT_EQ(s.open_failures, 0u);
+  EXPECT_NE(s.last_error.find("incomplete frame"), std::string::npos);
+  EXPECT_EQ(rec.eventsOf(CaptureEvent::Type::FrameError).size(), 1u);
+  {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    EXPECT_EQ(rec.sequences, (std::vector<std::uint64_t>{ 10, 11, 12, 15, 16, 17, 3, 4 }));
+  }
+  EXPECT_EQ(device->opens.load(), 1) << "the end of a recording is not a failure";
+  capture.stop();
+  EXPECT_EQ(capture.state(), CaptureState::Idle);
+}
+
+TEST(CameraCaptureThread, CountsTimestampGapsWhenTheSourceHasNoSequence)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->free_run = false;
+  device->rate = 100.0;  // 10 ms per frame
+  for (double t : { 0.0, 0.010, 0.020, 0.050, 0.060, 0.071 })
+    device->script.push_back(Step{ Step::Image, 0, false, t });
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), nullptr);
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.state() == CaptureState::Finished; }));
+  const sl_camera::CaptureStats s = capture.stats();
+  EXPECT_EQ(s.frames, 6u);
+  EXPECT_EQ(s.dropped, 2u);  // 20 -> 50 ms: two frames missing; 60 -> 71 ms is jitter
+  EXPECT_DOUBLE_EQ(s.nominal_rate, 100.0);
+}
+
+TEST(CameraCaptureThread, BackoffDoublesUpToTheCap)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->present = false;
+  Recorder rec;
+  CaptureOptions o = fastOptions();
+  o.initial_backoff = 0.001;
+  o.max_backoff = 0.004;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, nullptr, rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return rec.eventsOf(CaptureEvent::Type::Error).size() >= 5; }));
+  capture.stop();
+  const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+  const std::vector<double> expected{ 0.001, 0.002, 0.004, 0.004, 0.004 };
+  for (size_t i = 0; i < expected.size(); ++i)
+    EXPECT_DOUBLE_EQ(errors[i].retry_in, expected[i]) << "attempt " << i;
+}
+
+TEST(CameraCaptureThread, StalledSourceIsTreatedAsLostAndReopened)
+{
+  auto device = std::make_shared<FakeDevice>();
+  CaptureOptions o = fastOptions();
+  o.stall_timeout = 0.05;
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 2; }));
+  device->stalled = true;
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().last_error.find("no frame for") != std::string::npos; }));
+  EXPECT_NE(capture.stats().last_error.find("/dev/fake0"), std::string::npos);
+  const std::uint64_t frames_before = capture.stats().frames;
+  device->stalled = false;
+  ASSERT_TRUE(waitUntil([&] {
+    const auto st = capture.stats();
+    return st.reconnects >= 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
+  }));
+  capture.stop();
+  EXPECT_GE(device->opens.load(), 2);
+}
+
+TEST(CameraCaptureThread, StopReturnsDuringALongBackoff)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->present = false;
+  CaptureOptions o = fastOptions();
+  o.initial_backoff = 3600.0;
+  o.max_backoff = 3600.0;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, nullptr);
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 1; }));
+  EXPECT_EQ(capture.state(), CaptureState::Reconnecting);
+  EXPECT_DOUBLE_EQ(capture.stats().retry_in, 3600.0);
+  capture.stop();  // would hang for an hour if the wait were not interruptible
+  EXPECT_EQ(capture.state(), CaptureState::Idle);
+  EXPECT_EQ(device->opens.load(), 1);
+  capture.stop();  // twice is fine
+}
+
+TEST(CameraCaptureThread, CallbackExceptionsAndWarningsAreReportedNotFatal)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->warn_on_open = true;
+  Recorder rec;
+  std::atomic<int> calls{ 0 };
+  CaptureThread capture(
+      std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(),
+      [&](const Frame&) {
+        if (calls++ == 0)
+          throw std::runtime_error("subscriber exploded");
+      },
+      rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return calls >= 5; }));
+  capture.stop();
+  EXPECT_EQ(capture.stats().reconnects, 0u);
+  const auto frame_errors = rec.eventsOf(CaptureEvent::Type::FrameError);
+  ASSERT_EQ(frame_errors.size(), 1u);
+  EXPECT_NE(frame_errors[0].message.find("subscriber exploded"), std::string::npos);
+  const auto warnings = rec.eventsOf(CaptureEvent::Type::Warning);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].message, "fake camera /dev/fake0: gain ignored");
+  // State changes went Opening -> Streaming -> Idle.
+  std::vector<CaptureState> states;
+  for (const auto& e : rec.eventsOf(CaptureEvent::Type::StateChanged))
+    states.push_back(e.state);
+  EXPECT_EQ(states, (std::vector<CaptureState>{ CaptureState::Opening, CaptureState::Streaming, CaptureState::Idle }));
+}
+
+TEST(CameraCaptureThread, RejectsBadConstruction)
+{
+  EXPECT_THROW(CaptureThread(nullptr, CaptureOptions(), nullptr), std::invalid_argument);
+  CaptureOptions o;
+  o.grab_timeout = 0.0;
+  try
+  {
+    CaptureThread(std::unique_ptr<FrameSource>(new FakeSource(std::make_shared<FakeDevice>())), o, nullptr);
+    FAIL();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("grab_timeout"), std::string::npos) << e.what();
+  }
+  EXPECT_STREQ(sl_camera::captureStateName(CaptureState::Reconnecting), "reconnecting");
+}

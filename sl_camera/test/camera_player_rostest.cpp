@@ -1,0 +1,331 @@
+// Checks the camera nodelet (player back-end) in a running system: the missing folder is reported
+// and retried; once the PNGs are there they arrive in order, paired with a valid camera_info in the
+// configured frame; diagnostics; invalid parameters stop the node naming the parameter.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <sys/wait.h>
+#include <utility>
+#include <vector>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <image_transport/image_transport.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+constexpr int kImages = 5;
+constexpr int kWidth = 64;
+constexpr int kHeight = 48;
+
+std::string g_folder;
+
+/// Grey value of image i (0-based): 40, 80, ..., 200.
+int valueOf(int i)
+{
+  return 40 * (i + 1);
+}
+
+/// Writes the images into a staging folder and renames it into place, so a camera never sees a
+/// half-written folder. Idempotent.
+void ensureFolder()
+{
+  if (fs::exists(g_folder))
+    return;
+  const std::string staging = g_folder + ".staging";
+  fs::create_directories(staging);
+  for (int i = 0; i < kImages; ++i)
+  {
+    cv::Mat image(kHeight, kWidth, CV_8UC1, cv::Scalar(valueOf(i)));
+    image.at<uint8_t>(kHeight - 1, kWidth - 1) = static_cast<uint8_t>(i);  // not uniform, whatever the codec
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%03d.png", i);
+    ASSERT_TRUE(cv::imwrite((fs::path(staging) / name).string(), image));
+  }
+  fs::rename(staging, g_folder);
+}
+
+/// Waits (spinning in the background) until @p done holds or the timeout passes.
+bool waitUntil(const std::function<bool()>& done, double timeout_s)
+{
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::ok() && ros::WallTime::now() < end)
+  {
+    if (done())
+      return true;
+    ros::WallDuration(0.01).sleep();
+  }
+  return done();
+}
+
+/// Collects the latest diagnostic status per name.
+class DiagnosticsWatch
+{
+public:
+  DiagnosticsWatch()
+  {
+    sub_ = nh_.subscribe("/diagnostics", 50, &DiagnosticsWatch::callback, this);
+  }
+  /// The latest status whose name ends with @p suffix, if any.
+  bool find(const std::string& suffix, diagnostic_msgs::DiagnosticStatus& out)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : latest_)
+      if (s.name.size() >= suffix.size() && s.name.compare(s.name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      {
+        out = s;
+        return true;
+      }
+    return false;
+  }
+  static std::string value(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key)
+  {
+    for (const auto& kv : s.values)
+      if (kv.key == key)
+        return kv.value;
+    return std::string();
+  }
+
+private:
+  void callback(const diagnostic_msgs::DiagnosticArray::ConstPtr& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : msg->status)
+    {
+      bool replaced = false;
+      for (auto& old : latest_)
+        if (old.name == s.name)
+        {
+          old = s;
+          replaced = true;
+        }
+      if (!replaced)
+        latest_.push_back(s);
+    }
+  }
+
+  ros::NodeHandle nh_;
+  ros::Subscriber sub_;
+  std::mutex mutex_;
+  std::vector<diagnostic_msgs::DiagnosticStatus> latest_;
+};
+
+/// Collects (image, camera_info) pairs from a camera namespace.
+class CameraWatch
+{
+public:
+  explicit CameraWatch(const std::string& ns) : it_(nh_)
+  {
+    sub_ = it_.subscribeCamera(ns + "/image_raw", 100, &CameraWatch::callback, this);
+  }
+  size_t size()
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return images_.size();
+  }
+  void take(std::vector<sensor_msgs::ImageConstPtr>& images, std::vector<sensor_msgs::CameraInfoConstPtr>& infos)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    images = images_;
+    infos = infos_;
+  }
+
+private:
+  void callback(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    images_.push_back(image);
+    infos_.push_back(info);
+  }
+
+  ros::NodeHandle nh_;
+  image_transport::ImageTransport it_;
+  image_transport::CameraSubscriber sub_;
+  std::mutex mutex_;
+  std::vector<sensor_msgs::ImageConstPtr> images_;
+  std::vector<sensor_msgs::CameraInfoConstPtr> infos_;
+};
+
+/// Runs a command, returns its exit status and combined output.
+int run(const std::string& command, std::string& output)
+{
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe)
+    return -1;
+  std::array<char, 512> buf;
+  while (fgets(buf.data(), buf.size(), pipe))
+    output += buf.data();
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Index of the test image an image message shows (-1 if none).
+int imageIndex(const sensor_msgs::Image& image)
+{
+  if (image.data.empty())
+    return -1;
+  const int v = image.data.front();
+  for (int i = 0; i < kImages; ++i)
+    if (v == valueOf(i))
+      return i;
+  return -1;
+}
+}  // namespace
+
+TEST(CameraPlayerNode, MissingFolderAtStartIsReportedThenPlayedOnceItAppears)
+{
+  DiagnosticsWatch diagnostics;
+  diagnostic_msgs::DiagnosticStatus status;
+  // Before the folder exists: an error naming it, while the node keeps running and retrying.
+  ASSERT_TRUE(waitUntil(
+      [&] { return diagnostics.find("calibrated/camera: capture", status) && status.level == status.ERROR; }, 60.0))
+      << "no error diagnostics for the missing folder";
+  EXPECT_NE(status.message.find(g_folder), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("does not exist"), std::string::npos) << status.message;
+
+  ensureFolder();
+  CameraWatch camera("calibrated");
+  ASSERT_TRUE(waitUntil([&] { return camera.size() >= 3; }, 60.0)) << "no images after the folder appeared";
+  ASSERT_TRUE(waitUntil(
+      [&] { return diagnostics.find("calibrated/camera: capture", status) && status.level == status.OK; }, 30.0));
+  EXPECT_EQ(status.message, "streaming");
+  EXPECT_EQ(DiagnosticsWatch::value(status, "state"), "streaming");
+  EXPECT_EQ(DiagnosticsWatch::value(status, "reconnects"), "0");
+  EXPECT_NE(DiagnosticsWatch::value(status, "frames"), "0");
+  EXPECT_NE(DiagnosticsWatch::value(status, "failed opens"), "0");
+  EXPECT_TRUE(diagnostics.find("calibrated/camera: frame rate", status));
+}
+
+TEST(CameraPlayerNode, ImagesArriveInOrderWithCalibratedCameraInfo)
+{
+  ensureFolder();
+  CameraWatch camera("calibrated");
+  const size_t wanted = 2 * kImages + 2;
+  ASSERT_TRUE(waitUntil([&] { return camera.size() >= wanted; }, 60.0)) << "got " << camera.size() << " images";
+  std::vector<sensor_msgs::ImageConstPtr> images;
+  std::vector<sensor_msgs::CameraInfoConstPtr> infos;
+  camera.take(images, infos);
+  ASSERT_EQ(images.size(), infos.size());
+  for (size_t k = 0; k < images.size(); ++k)
+  {
+    const sensor_msgs::Image& image = *images[k];
+    const sensor_msgs::CameraInfo& info = *infos[k];
+    ASSERT_EQ(image.encoding, "mono8");
+    ASSERT_EQ(image.width, static_cast<uint32_t>(kWidth));
+    ASSERT_EQ(image.height, static_cast<uint32_t>(kHeight));
+    ASSERT_EQ(image.step, static_cast<uint32_t>(kWidth));
+    ASSERT_EQ(image.data.size(), static_cast<size_t>(kWidth * kHeight));
+    EXPECT_EQ(image.header.frame_id, "test_camera_optical_frame");
+    EXPECT_EQ(info.header.frame_id, "test_camera_optical_frame");
+    EXPECT_EQ(info.header.stamp, image.header.stamp);
+    EXPECT_FALSE(image.header.stamp.isZero());
+    // From camera_data/camera_info.yaml.
+    EXPECT_EQ(info.width, static_cast<uint32_t>(kWidth));
+    EXPECT_EQ(info.height, static_cast<uint32_t>(kHeight));
+    EXPECT_DOUBLE_EQ(info.K[0], 100.0);
+    EXPECT_DOUBLE_EQ(info.K[2], 31.5);
+    EXPECT_DOUBLE_EQ(info.K[4], 101.0);
+    EXPECT_DOUBLE_EQ(info.K[5], 23.5);
+    EXPECT_EQ(info.distortion_model, "plumb_bob");
+    ASSERT_EQ(info.D.size(), 5u);
+    EXPECT_DOUBLE_EQ(info.D[1], -0.02);
+
+    const int index = imageIndex(image);
+    ASSERT_GE(index, 0) << "image " << k << " is none of the test images (first pixel "
+                        << static_cast<int>(image.data.front()) << ")";
+    EXPECT_EQ(image.data.back(), index) << "the marker pixel of image " << index;
+    if (k > 0)
+    {
+      // In name order, looping: each image is the successor of the previous one.
+      EXPECT_EQ(index, (imageIndex(*images[k - 1]) + 1) % kImages) << "at message " << k;
+      EXPECT_GT(image.header.stamp, images[k - 1]->header.stamp);
+    }
+  }
+}
+
+TEST(CameraPlayerNode, UncalibratedCameraInfoCarriesTheImageSize)
+{
+  ensureFolder();
+  CameraWatch camera("uncalibrated");
+  ASSERT_TRUE(waitUntil([&] { return camera.size() >= 3; }, 60.0));
+  std::vector<sensor_msgs::ImageConstPtr> images;
+  std::vector<sensor_msgs::CameraInfoConstPtr> infos;
+  camera.take(images, infos);
+  for (size_t k = 0; k < images.size(); ++k)
+  {
+    EXPECT_EQ(images[k]->header.frame_id, "camera_optical_frame");  // the default
+    EXPECT_EQ(infos[k]->header.frame_id, "camera_optical_frame");
+    EXPECT_EQ(infos[k]->width, static_cast<uint32_t>(kWidth));
+    EXPECT_EQ(infos[k]->height, static_cast<uint32_t>(kHeight));
+    EXPECT_DOUBLE_EQ(infos[k]->K[0], 0.0);
+    EXPECT_GE(imageIndex(*images[k]), 0);
+  }
+}
+
+TEST(CameraPlayerNode, FolderThatNeverAppearsIsAnErrorNotACrash)
+{
+  DiagnosticsWatch diagnostics;
+  diagnostic_msgs::DiagnosticStatus status;
+  ASSERT_TRUE(waitUntil(
+      [&] {
+        return diagnostics.find("missing/camera: capture", status) && status.level == status.ERROR &&
+               DiagnosticsWatch::value(status, "failed opens") != "1";
+      },
+      60.0));
+  EXPECT_NE(status.message.find("/nonexistent/sl_camera_test_frames does not exist"), std::string::npos)
+      << status.message;
+  EXPECT_EQ(DiagnosticsWatch::value(status, "frames"), "0");
+  std::vector<std::string> nodes;
+  ASSERT_TRUE(ros::master::getNodes(nodes));
+  EXPECT_NE(std::find(nodes.begin(), nodes.end(), "/missing/camera"), nodes.end()) << "camera_node is gone";
+}
+
+TEST(CameraNode, InvalidParametersFailNamingThem)
+{
+  const std::vector<std::pair<std::string, std::string>> cases = {
+    { "_backend:=player _device:=/tmp _rate:=-1", "~rate must be > 0" },
+    { "_backend:=usb", "~backend must be one of v4l2, aravis, player" },
+    { "_backend:=player", "~device must name a folder" },
+    { "_backend:=player _device:=/tmp _camera_info_url:=http://x/c.yaml", "~camera_info_url must be" },
+    { "_width:=-5", "~width must be" },
+  };
+  int n = 0;
+  for (const auto& c : cases)
+  {
+    std::string out;
+    const int status = run("rosrun sl_camera camera_node __name:=bad_camera" + std::to_string(n++) + " " + c.first, out);
+    EXPECT_NE(status, 0) << c.first << ":\n" << out;
+    EXPECT_NE(out.find(c.second), std::string::npos) << c.first << ":\n" << out;
+  }
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "camera_player_rostest");
+  ros::NodeHandle pnh("~");
+  if (!pnh.getParam("folder", g_folder) || g_folder.empty())
+  {
+    ROS_FATAL("~folder is not set");
+    return 1;
+  }
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  std::error_code ec;
+  fs::remove_all(g_folder, ec);
+  fs::remove_all(g_folder + ".staging", ec);
+  return result;
+}

@@ -1,0 +1,371 @@
+// PlayerSource: replays folders of images (generated here) and video files, paced, looped, in mono8.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "sl_camera/camera/mono8.h"
+#include "sl_camera/camera/player_source.h"
+
+namespace fs = std::filesystem;
+using sl_camera::CameraError;
+using sl_camera::Frame;
+using sl_camera::GrabStatus;
+using sl_camera::PlayerSource;
+
+namespace
+{
+/// A fresh directory under the system temp dir, removed with everything in it at the end.
+class TempDir
+{
+public:
+  TempDir()
+  {
+    std::string pattern = (fs::temp_directory_path() / "sl_camera_player_XXXXXX").string();
+    if (!::mkdtemp(&pattern[0]))
+      throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+  }
+  ~TempDir()
+  {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const
+  {
+    return (fs::path(path_) / name).string();
+  }
+  const std::string& path() const
+  {
+    return path_;
+  }
+
+private:
+  std::string path_;
+};
+
+/// Writes a uniform grey 8-bit image of the given value.
+void writeGrey(const std::string& file, int value, int width = 16, int height = 12)
+{
+  ASSERT_TRUE(cv::imwrite(file, cv::Mat(height, width, CV_8UC1, cv::Scalar(value)))) << file;
+}
+
+/// Grabs the next frame, waiting through Timeouts (generous bound: the test must not hang).
+GrabStatus grabNext(PlayerSource& player, Frame& frame)
+{
+  for (int i = 0; i < 1000; ++i)
+  {
+    const GrabStatus s = player.grab(frame, std::chrono::milliseconds(50));
+    if (s != GrabStatus::Timeout)
+      return s;
+  }
+  return GrabStatus::Timeout;
+}
+
+int valueOf(const Frame& frame)
+{
+  return frame.image.at<uint8_t>(0, 0);
+}
+}  // namespace
+
+TEST(CameraPlayer, ReplaysFolderInNameOrderIgnoringOtherFiles)
+{
+  TempDir dir;
+  // Written out of order; upper-case and other extensions are images too; text files are not.
+  writeGrey(dir.file("frame_03.png"), 30);
+  writeGrey(dir.file("frame_01.png"), 10);
+  writeGrey(dir.file("frame_02.PNG"), 20);
+  writeGrey(dir.file("frame_04.pgm"), 40);
+  writeGrey(dir.file("frame_05.tiff"), 50);
+  writeGrey(dir.file("frame_06.jpg"), 60);  // lossy, but a uniform image decodes close to its value
+  std::ofstream(dir.file("notes.txt")) << "not an image";
+  fs::create_directory(dir.file("sub.png"));  // a folder named like an image is skipped
+
+  PlayerSource player(dir.path(), 200.0, false);
+  player.open();
+  ASSERT_EQ(player.files().size(), 6u);
+  EXPECT_EQ(fs::path(player.files().front()).filename(), "frame_01.png");
+  EXPECT_EQ(fs::path(player.files().back()).filename(), "frame_06.jpg");
+
+  Frame frame;
+  std::vector<int> values;
+  std::vector<uint64_t> sequences;
+  while (grabNext(player, frame) == GrabStatus::Frame)
+  {
+    ASSERT_EQ(frame.image.type(), CV_8UC1);
+    EXPECT_EQ(frame.image.cols, 16);
+    EXPECT_EQ(frame.image.rows, 12);
+    EXPECT_TRUE(frame.has_sequence);
+    values.push_back(valueOf(frame));
+    sequences.push_back(frame.sequence);
+    ASSERT_LE(values.size(), 6u) << "no end of stream without loop";
+  }
+  ASSERT_EQ(values.size(), 6u);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_EQ(values[i], 10 * (i + 1));
+  EXPECT_NEAR(values[5], 60, 2);
+  EXPECT_EQ(sequences, (std::vector<uint64_t>{ 0, 1, 2, 3, 4, 5 }));
+  // Stays at the end.
+  EXPECT_EQ(player.grab(frame, std::chrono::milliseconds(10)), GrabStatus::EndOfStream);
+}
+
+TEST(CameraPlayer, LoopStartsOver)
+{
+  TempDir dir;
+  for (int i = 0; i < 3; ++i)
+    writeGrey(dir.file("img" + std::to_string(i) + ".png"), 100 + i);
+  PlayerSource player(dir.path(), 500.0, true);
+  player.open();
+  Frame frame;
+  std::vector<int> values;
+  for (int i = 0; i < 8; ++i)
+  {
+    ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+    values.push_back(valueOf(frame));
+    EXPECT_EQ(frame.sequence, static_cast<uint64_t>(i));
+  }
+  EXPECT_EQ(values, (std::vector<int>{ 100, 101, 102, 100, 101, 102, 100, 101 }));
+}
+
+TEST(CameraPlayer, PacesAtTheRate)
+{
+  TempDir dir;
+  writeGrey(dir.file("a.png"), 1);
+  const double rate = 40.0;
+  PlayerSource player(dir.path(), rate, true);
+  player.open();
+  EXPECT_DOUBLE_EQ(player.nominalRate(), rate);
+  Frame frame;
+  ASSERT_EQ(player.grab(frame, std::chrono::milliseconds(1)), GrabStatus::Frame);  // the first is due at once
+  const auto first = frame.stamp;
+  const int n = 6;
+  for (int i = 1; i < n; ++i)
+    ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  // Never faster than the rate (a lower bound only: sleeping never returns early).
+  const double elapsed = std::chrono::duration<double>(frame.stamp - first).count();
+  EXPECT_GE(elapsed, (n - 1) / rate * 0.9);
+
+  // While the next frame is not due, a short timeout gives Timeout (next frame in 10 s here).
+  PlayerSource slow(dir.path(), 0.1, true);
+  slow.open();
+  ASSERT_EQ(slow.grab(frame, std::chrono::milliseconds(1)), GrabStatus::Frame);
+  EXPECT_EQ(slow.grab(frame, std::chrono::milliseconds(0)), GrabStatus::Timeout);
+  EXPECT_EQ(slow.grab(frame, std::chrono::milliseconds(5)), GrabStatus::Timeout);
+}
+
+TEST(CameraPlayer, ConvertsColourAnd16BitToMono8)
+{
+  TempDir dir;
+  cv::Mat colour(4, 6, CV_8UC3, cv::Scalar(30, 200, 90));  // B, G, R
+  ASSERT_TRUE(cv::imwrite(dir.file("1_colour.png"), colour));
+  cv::Mat deep(4, 6, CV_16UC1, cv::Scalar(100 * 256 + 100));
+  deep.at<uint16_t>(0, 1) = 65535;
+  deep.at<uint16_t>(0, 2) = 0;
+  ASSERT_TRUE(cv::imwrite(dir.file("2_deep.png"), deep));
+  cv::Mat rgba(4, 6, CV_8UC4, cv::Scalar(255, 255, 255, 128));
+  ASSERT_TRUE(cv::imwrite(dir.file("3_rgba.png"), rgba));
+
+  PlayerSource player(dir.path(), 500.0, false);
+  player.open();
+  Frame frame;
+  ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  ASSERT_EQ(frame.image.type(), CV_8UC1);
+  cv::Mat expected;
+  cv::cvtColor(colour, expected, cv::COLOR_BGR2GRAY);
+  EXPECT_EQ(valueOf(frame), expected.at<uint8_t>(0, 0));
+  EXPECT_NEAR(valueOf(frame), 0.114 * 30 + 0.587 * 200 + 0.299 * 90, 1.0);
+
+  ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  ASSERT_EQ(frame.image.type(), CV_8UC1);
+  EXPECT_EQ(frame.image.at<uint8_t>(0, 0), 100);  // the top 8 bits
+  EXPECT_EQ(frame.image.at<uint8_t>(0, 1), 255);
+  EXPECT_EQ(frame.image.at<uint8_t>(0, 2), 0);
+
+  ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  ASSERT_EQ(frame.image.type(), CV_8UC1);
+  EXPECT_EQ(valueOf(frame), 255);
+}
+
+TEST(CameraPlayer, MissingAndEmptyFoldersAreClearErrors)
+{
+  TempDir dir;
+  const std::string missing = dir.file("no_such_folder");
+  PlayerSource gone(missing, 10.0, false);
+  try
+  {
+    gone.open();
+    FAIL() << "opening a missing folder must fail";
+  }
+  catch (const CameraError& e)
+  {
+    EXPECT_EQ(e.kind(), CameraError::Kind::NotFound);
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(gone.isOpen());
+
+  std::ofstream(dir.file("readme.txt")) << "no images here";
+  PlayerSource empty(dir.path(), 10.0, false);
+  try
+  {
+    empty.open();
+    FAIL() << "opening a folder without images must fail";
+  }
+  catch (const CameraError& e)
+  {
+    EXPECT_EQ(e.kind(), CameraError::Kind::Open);
+    EXPECT_NE(std::string(e.what()).find(dir.path()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no images"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(empty.isOpen());
+  EXPECT_THROW(PlayerSource(dir.path(), 0.0, false), std::invalid_argument);
+}
+
+TEST(CameraPlayer, CorruptFileIsAFrameErrorNamingItAndPlaybackContinues)
+{
+  TempDir dir;
+  writeGrey(dir.file("a.png"), 11);
+  std::ofstream(dir.file("b.png"), std::ios::binary) << "\x89PNG this is not really a PNG";
+  writeGrey(dir.file("c.png"), 33);
+  PlayerSource player(dir.path(), 500.0, false);
+  player.open();
+  Frame frame;
+  ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  EXPECT_EQ(valueOf(frame), 11);
+  try
+  {
+    grabNext(player, frame);
+    FAIL() << "a corrupt image must be reported";
+  }
+  catch (const CameraError& e)
+  {
+    EXPECT_EQ(e.kind(), CameraError::Kind::Frame);
+    EXPECT_NE(std::string(e.what()).find(dir.file("b.png")), std::string::npos) << e.what();
+  }
+  ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  EXPECT_EQ(valueOf(frame), 33);
+  EXPECT_EQ(grabNext(player, frame), GrabStatus::EndOfStream);
+}
+
+TEST(CameraPlayer, ImageThatDisappearsMeansTheRecordingIsLost)
+{
+  TempDir dir;
+  writeGrey(dir.file("a.png"), 1);
+  writeGrey(dir.file("b.png"), 2);
+  PlayerSource player(dir.path(), 500.0, true);
+  player.open();
+  Frame frame;
+  ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  fs::remove(dir.file("b.png"));
+  try
+  {
+    grabNext(player, frame);
+    FAIL() << "a vanished image must be reported";
+  }
+  catch (const CameraError& e)
+  {
+    EXPECT_EQ(e.kind(), CameraError::Kind::Lost);
+    EXPECT_NE(std::string(e.what()).find(dir.file("b.png")), std::string::npos) << e.what();
+  }
+  // Opening again lists what is there now.
+  player.open();
+  EXPECT_EQ(player.files().size(), 1u);
+}
+
+TEST(CameraPlayer, SingleImageFile)
+{
+  TempDir dir;
+  writeGrey(dir.file("only.png"), 77);
+  PlayerSource player(dir.file("only.png"), 500.0, true);
+  player.open();
+  Frame frame;
+  for (int i = 0; i < 3; ++i)
+  {
+    ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+    EXPECT_EQ(valueOf(frame), 77);
+  }
+}
+
+TEST(CameraPlayer, ReplaysAVideoFileAndLoops)
+{
+  TempDir dir;
+  const std::string video = dir.file("clip.avi");
+  {
+    // OpenCV's built-in MJPEG writer needs no external codec.
+    cv::VideoWriter writer(video, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0,
+                           cv::Size(32, 24), true);
+    ASSERT_TRUE(writer.isOpened());
+    for (int i = 0; i < 4; ++i)
+      writer.write(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(40 + 50 * i)));
+  }
+  PlayerSource player(video, 500.0, true);
+  player.open();
+  EXPECT_TRUE(player.files().empty());
+  Frame frame;
+  std::vector<int> values;
+  for (int i = 0; i < 6; ++i)
+  {
+    ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+    ASSERT_EQ(frame.image.type(), CV_8UC1);
+    EXPECT_EQ(frame.image.cols, 32);
+    EXPECT_EQ(frame.image.rows, 24);
+    values.push_back(valueOf(frame));
+  }
+  const std::vector<int> expected{ 40, 90, 140, 190, 40, 90 };
+  for (size_t i = 0; i < expected.size(); ++i)
+    EXPECT_NEAR(values[i], expected[i], 4) << "frame " << i;
+
+  // Without loop the video ends.
+  PlayerSource once(video, 500.0, false);
+  once.open();
+  int n = 0;
+  while (grabNext(once, frame) == GrabStatus::Frame && n < 10)
+    ++n;
+  EXPECT_EQ(n, 4);
+}
+
+TEST(CameraPlayer, UnreadableVideoIsAClearError)
+{
+  TempDir dir;
+  const std::string bogus = dir.file("clip.avi");
+  std::ofstream(bogus) << "not a video";
+  PlayerSource player(bogus, 10.0, false);
+  try
+  {
+    player.open();
+    FAIL() << "a file that is neither image nor video must fail";
+  }
+  catch (const CameraError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find(bogus), std::string::npos) << e.what();
+  }
+}
+
+TEST(CameraMono8, ConvertsSupportedTypesAndRejectsOthers)
+{
+  cv::Mat out;
+  sl_camera::toMono8(cv::Mat(2, 2, CV_16UC1, cv::Scalar(4095)), out, 12);
+  EXPECT_EQ(out.type(), CV_8UC1);
+  EXPECT_EQ(out.at<uint8_t>(0, 0), 255);
+  sl_camera::toMono8(cv::Mat(2, 2, CV_16UC1, cv::Scalar(1024)), out, 10);
+  EXPECT_EQ(out.at<uint8_t>(0, 0), 255);
+  sl_camera::toMono8(cv::Mat(2, 2, CV_32FC1, cv::Scalar(0.5)), out);
+  EXPECT_NEAR(out.at<uint8_t>(0, 0), 128, 1);
+  EXPECT_THROW(sl_camera::toMono8(cv::Mat(), out), std::invalid_argument);
+  try
+  {
+    sl_camera::toMono8(cv::Mat(2, 2, CV_8UC2), out);
+    FAIL();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("8UC2"), std::string::npos) << e.what();
+  }
+}

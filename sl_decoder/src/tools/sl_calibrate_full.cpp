@@ -1,0 +1,174 @@
+// sl_calibrate_full: full projector-camera calibration from recorded images. The camera from
+// checkerboard views (OpenCV calibrateCamera) or a ROS camera_calibration file; the projector as an
+// inverse camera from the decoded pattern on >= 3 plane poses, each fixed by a checkerboard on the
+// plane or by a known distance. Writes the rig (calibration) file. No ROS master needed.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "sl_decoder/calibration/full_calibration.h"
+
+namespace
+{
+using namespace sl_decoder;
+using namespace sl_decoder::calibration;
+
+const char* kUsage =
+    "usage: sl_calibrate_full --rig RIG.yaml --out OUT.yaml --board COLSxROWS --square S [views] [options]\n"
+    "Full calibration: camera intrinsics and distortion, projector intrinsics, distortion and pose.\n"
+    "  --rig FILE            the rig file to start from (pattern, mount, projector frame size; its\n"
+    "                        geometry is used to decode the pattern and need only be roughly right;\n"
+    "                        its depth_tables are kept)\n"
+    "  --out FILE            the calibration file to write\n"
+    "  --board COLSxROWS     checkerboard INNER corners, as ROS camera_calibration's --size (a board\n"
+    "                        of 9 x 6 squares is 8x5)\n"
+    "  --square S            square size, m\n"
+    "views (repeatable; images are files, --camera-view also takes a folder):\n"
+    "  --camera-view IMAGE   a checkerboard image for the camera (lights on, projector dark)\n"
+    "  --pose BOARD,PATTERN  one pose of a calibration plane: the checkerboard image (lights on,\n"
+    "                        projector dark) and the pattern image of the same pose (projector on,\n"
+    "                        board covered or outside the pattern); the board image is a camera view too\n"
+    "  --plane PATTERN:D     the pattern image of a plane perpendicular to the robot at D m (as in\n"
+    "                        sl_calibrate_plane, see --reference / --normal)\n"
+    "options:\n"
+    "  --camera-info FILE    use this camera model (ROS camera_calibration's YAML) instead of\n"
+    "                        calibrating the camera; board images then only give plane poses\n"
+    "  --camera-info-out FILE  also write the camera model as camera_info YAML (camera driver)\n"
+    "  --reference R, --normal N  how --plane distances are defined (camera|edge, robot|camera)\n"
+    "  --k3                  also estimate k3 (camera and projector; default k3 = 0)\n"
+    "  --epipolar-tolerance PX  decoder tolerance for the uncalibrated rig (default 10)\n"
+    "  --no-joint            skip the final joint refinement (bundle adjustment) of camera, projector,\n"
+    "                        pose and board poses; keep the separate camera and projector fits\n"
+    "Needs >= 3 plane poses (--pose or --plane) and, without --camera-info, >= 3 board images.\n"
+    "Exit status: 0 written, 1 calibration failed (nothing written), 2 bad arguments.\n";
+
+struct PoseArg
+{
+  std::string board, pattern;
+};
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string rig_path, out_path, board_size, camera_info, camera_info_out;
+  double square = 0.0;
+  FullCalibrationOptions options;
+  std::vector<std::string> camera_views;
+  std::vector<PoseArg> poses;
+  std::vector<std::pair<std::string, double>> planes;
+  bool written = false;
+  try
+  {
+    for (int i = 1; i < argc; ++i)
+    {
+      const std::string a = argv[i];
+      auto next = [&]() -> std::string {
+        if (i + 1 >= argc)
+          throw std::invalid_argument(a + " needs a value");
+        return argv[++i];
+      };
+      if (a == "-h" || a == "--help")
+      {
+        std::cout << kUsage;
+        return 0;
+      }
+      else if (a == "--rig")
+        rig_path = next();
+      else if (a == "--out")
+        out_path = next();
+      else if (a == "--board")
+        board_size = next();
+      else if (a == "--square")
+        square = std::stod(next());
+      else if (a == "--camera-view")
+        camera_views.push_back(next());
+      else if (a == "--pose")
+      {
+        const std::string v = next();
+        const size_t comma = v.find(',');
+        if (comma == std::string::npos || comma == 0 || comma + 1 == v.size())
+          throw std::invalid_argument("--pose needs BOARD_IMAGE,PATTERN_IMAGE, got '" + v + "'");
+        poses.push_back(PoseArg{ v.substr(0, comma), v.substr(comma + 1) });
+      }
+      else if (a == "--plane")
+      {
+        std::string path;
+        double d = 0.0;
+        parsePathAndNumber(next(), path, d);
+        planes.emplace_back(path, d);
+      }
+      else if (a == "--camera-info")
+        camera_info = next();
+      else if (a == "--camera-info-out")
+        camera_info_out = next();
+      else if (a == "--reference")
+        options.distance_planes.reference = parseDistanceReference(next());
+      else if (a == "--normal")
+        options.distance_planes.normal = parsePlaneNormal(next());
+      else if (a == "--k3")
+        options.camera.fix_k3 = options.projector.fix_k3 = false;
+      else if (a == "--no-joint")
+        options.joint_refinement = false;
+      else if (a == "--epipolar-tolerance")
+        options.epipolar_tolerance = std::stod(next());
+      else
+        throw std::invalid_argument("unknown argument '" + a + "'");
+    }
+    if (rig_path.empty() || out_path.empty())
+      throw std::invalid_argument("--rig and --out are required");
+    if (board_size.empty() && (!camera_views.empty() || !poses.empty()))
+      throw std::invalid_argument("--board and --square are required with board images");
+    options.distance_planes.validate();
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "sl_calibrate_full: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+
+  try
+  {
+    const sl_projector::Rig rig = sl_projector::loadRig(rig_path);
+    Board board;
+    if (!board_size.empty())
+      board = parseBoardSize(board_size, square);
+    FullCalibration calibration(rig, board, options);
+    if (!camera_info.empty())
+      calibration.setCamera(loadCameraInfo(camera_info));
+    for (const std::string& v : camera_views)
+      for (const std::string& file : listImages(v))
+      {
+        calibration.addCameraView(file, readGreyImage(file));
+        std::cout << file << ": checkerboard found\n";
+      }
+    for (const PoseArg& p : poses)
+    {
+      calibration.addPlaneView(p.board, readGreyImage(p.board), p.pattern, readGreyImage(p.pattern));
+      std::cout << p.board << ": checkerboard found; " << p.pattern << ": pattern decoded\n";
+    }
+    for (const auto& p : planes)
+    {
+      calibration.addDistanceView(p.first, readGreyImage(p.first), p.second);
+      std::cout << p.first << ": pattern decoded, plane at " << fixed(p.second, 3) << " m\n";
+    }
+    const FullCalibrationResult res = calibration.calibrate();
+    std::cout << "\n" << res.summary();
+    sl_projector::saveRig(res.rig, out_path);
+    written = true;
+    std::cout << "wrote " << out_path << (rig.tables.rational.empty() && rig.tables.linear.empty() ?
+                                              std::string() :
+                                              std::string(" (depth_tables kept from ") + rig_path + ")")
+              << "\n";
+    if (!camera_info_out.empty())
+    {
+      saveCameraInfo(res.rig.camera, camera_info_out);
+      std::cout << "wrote " << camera_info_out << " (camera_info)\n";
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "sl_calibrate_full: " << e.what() << (written ? "\n" : "\nnothing written.\n");
+    return 1;
+  }
+  return 0;
+}

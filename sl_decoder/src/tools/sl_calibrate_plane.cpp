@@ -1,0 +1,235 @@
+// sl_calibrate_plane: plane calibration from recorded data. Decodes images of a flat plane at known
+// distances, fits per primitive the prototype's linear model and the rational model, reports the
+// residuals and writes the tables into the rig (calibration) file. No ROS master needed.
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "sl_decoder/calibration/plane_calibration.h"
+
+#ifdef SL_CALIBRATION_WITH_ROSBAG
+#include <cv_bridge/cv_bridge.h>
+#include <opencv2/imgcodecs.hpp>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#endif
+
+namespace
+{
+using namespace sl_decoder;
+using namespace sl_decoder::calibration;
+
+const char* kUsage =
+    "usage: sl_calibrate_plane --rig RIG.yaml --out OUT.yaml [options] SOURCE:DISTANCE ...\n"
+    "Plane calibration: a flat plane perpendicular to the robot at N >= 3 known distances.\n"
+    "  SOURCE:DISTANCE  images of the plane at DISTANCE m: an image file, a folder of images, or a\n"
+    "                   .bag file (every image on --topic); repeat for every distance (several\n"
+    "                   sources may share a distance; each primitive's position there is the median)\n"
+    "  --rig FILE       the rig file to start from (camera, mount, pattern; its geometry is used to\n"
+    "                   decode and need only be roughly right)\n"
+    "  --out FILE       the calibration file to write: the rig with depth_tables (linear, rational)\n"
+    "  --reference R    what DISTANCE is measured from: camera (default: the camera's optical centre,\n"
+    "                   along the robot's x axis) or edge (the robot's front edge, platform_edge)\n"
+    "  --normal N       the plane is perpendicular to the robot's x axis (robot, default) or to the\n"
+    "                   camera's optical axis (camera; DISTANCE then along that axis)\n"
+    "  --min-distances N  distances a primitive must be seen at to be calibrated (default 3)\n"
+    "  --max-rms MM     reject primitives whose rational fit leaves more (default 3 mm)\n"
+    "  --epipolar-tolerance PX  decoder tolerance for the uncalibrated rig (default 10)\n"
+    "  --residuals FILE.csv     write per-primitive residuals (mm) at every distance\n"
+    "  --topic TOPIC    image topic in bags (default: the only sensor_msgs/Image topic)\n"
+    "Exit status: 0 written, 1 calibration failed (nothing written), 2 bad arguments.\n";
+
+struct Source
+{
+  std::string path;
+  double distance;
+};
+
+bool endsWith(const std::string& s, const std::string& suffix)
+{
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// Calls @p add for every image of a source; returns the number of images.
+template <typename Add>
+int forEachImage(const Source& source, const std::string& topic, Add add)
+{
+  int n = 0;
+  if (endsWith(source.path, ".bag"))
+  {
+#ifdef SL_CALIBRATION_WITH_ROSBAG
+    rosbag::Bag bag;
+    try
+    {
+      bag.open(source.path, rosbag::bagmode::Read);
+    }
+    catch (const std::exception& e)
+    {
+      throw CalibrationError(source.path + ": cannot open the bag: " + e.what());
+    }
+    std::string chosen = topic;
+    if (chosen.empty())
+    {
+      rosbag::View all(bag);
+      std::vector<std::string> image_topics;
+      for (const rosbag::ConnectionInfo* c : all.getConnections())
+        if ((c->datatype == "sensor_msgs/Image" || c->datatype == "sensor_msgs/CompressedImage") &&
+            std::find(image_topics.begin(), image_topics.end(), c->topic) == image_topics.end())
+          image_topics.push_back(c->topic);
+      if (image_topics.size() != 1)
+      {
+        std::string list;
+        for (const std::string& t : image_topics)
+          list += " " + t;
+        throw CalibrationError(source.path + ": " +
+                               (image_topics.empty() ? std::string("no image topic in the bag") :
+                                                       "several image topics, choose one with --topic:" + list));
+      }
+      chosen = image_topics.front();
+    }
+    rosbag::View view(bag, rosbag::TopicQuery(chosen));
+    int index = 0;
+    for (const rosbag::MessageInstance& m : view)
+    {
+      const std::string name = source.path + "[" + chosen + " #" + std::to_string(index++) + "]";
+      cv::Mat grey;
+      try
+      {
+        if (sensor_msgs::Image::ConstPtr img = m.instantiate<sensor_msgs::Image>())
+        {
+          bool converted = false;
+          grey = toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
+        }
+        else if (sensor_msgs::CompressedImage::ConstPtr c = m.instantiate<sensor_msgs::CompressedImage>())
+          grey = cv::imdecode(c->data, cv::IMREAD_GRAYSCALE);
+      }
+      catch (const std::exception& e)
+      {
+        throw CalibrationError(name + ": cannot convert the image: " + e.what());
+      }
+      if (grey.empty())
+        throw CalibrationError(name + ": not an image it can read");
+      add(name, grey);
+      ++n;
+    }
+    if (n == 0)
+      throw CalibrationError(source.path + ": no messages on " + chosen);
+    return n;
+#else
+    (void)topic;
+    throw CalibrationError(source.path + ": this sl_calibrate_plane was built without rosbag (librosbag-dev)");
+#endif
+  }
+  for (const std::string& file : listImages(source.path))
+  {
+    add(file, readGreyImage(file));
+    ++n;
+  }
+  return n;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string rig_path, out_path, residuals_path, topic;
+  PlaneCalibrationOptions options;
+  double epipolar_tolerance = kCalibrationEpipolarTolerance;
+  std::vector<Source> sources;
+  try
+  {
+    for (int i = 1; i < argc; ++i)
+    {
+      const std::string a = argv[i];
+      auto next = [&]() -> std::string {
+        if (i + 1 >= argc)
+          throw std::invalid_argument(a + " needs a value");
+        return argv[++i];
+      };
+      if (a == "-h" || a == "--help")
+      {
+        std::cout << kUsage;
+        return 0;
+      }
+      else if (a == "--rig")
+        rig_path = next();
+      else if (a == "--out")
+        out_path = next();
+      else if (a == "--reference")
+        options.reference = parseDistanceReference(next());
+      else if (a == "--normal")
+        options.normal = parsePlaneNormal(next());
+      else if (a == "--min-distances")
+        options.min_distances = std::stoi(next());
+      else if (a == "--max-rms")
+        options.max_rational_rms = std::stod(next()) / 1000.0;
+      else if (a == "--epipolar-tolerance")
+        epipolar_tolerance = std::stod(next());
+      else if (a == "--residuals")
+        residuals_path = next();
+      else if (a == "--topic")
+        topic = next();
+      else if (!a.empty() && a[0] == '-')
+        throw std::invalid_argument("unknown option '" + a + "'");
+      else
+      {
+        Source s;
+        parsePathAndNumber(a, s.path, s.distance);
+        sources.push_back(s);
+      }
+    }
+    if (rig_path.empty() || out_path.empty())
+      throw std::invalid_argument("--rig and --out are required");
+    if (sources.empty())
+      throw std::invalid_argument("no SOURCE:DISTANCE given");
+    options.validate();
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "sl_calibrate_plane: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+
+  try
+  {
+    const sl_projector::Rig rig = sl_projector::loadRig(rig_path);
+    PlaneCalibration calibration(rig, options);
+    Decoder decoder(rig, calibrationDecoderConfig(epipolar_tolerance));
+    DecodeResult result;
+    for (const Source& s : sources)
+    {
+      forEachImage(s, topic, [&](const std::string& name, const cv::Mat& grey) {
+        if (grey.cols != rig.camera.width || grey.rows != rig.camera.height)
+          throw CalibrationError(name + ": the image is " + std::to_string(grey.cols) + " x " +
+                                 std::to_string(grey.rows) + " px, the rig's camera " +
+                                 std::to_string(rig.camera.width) + " x " + std::to_string(rig.camera.height));
+        decoder.decode(grey, result);
+        const int n = calibration.addImage(s.distance, result, name);
+        std::cout << name << ": " << n << " primitives at " << fixed(s.distance, 3) << " m\n";
+        if (n == 0)
+          std::cerr << "sl_calibrate_plane: warning: " << name
+                    << ": no primitive decoded (projector off? plane not in view? wrong --rig?)\n";
+      });
+    }
+    const PlaneCalibrationResult res = calibration.fit();
+    std::cout << "\n" << res.summary();
+    if (!residuals_path.empty())
+    {
+      std::ofstream csv(residuals_path);
+      if (!csv || !(csv << res.residualsCsv()))
+        throw CalibrationError(residuals_path + ": cannot write the residuals");
+      std::cout << "per-primitive residuals: " << residuals_path << "\n";
+    }
+    sl_projector::saveRig(withTables(rig, res), out_path);
+    std::cout << "wrote " << out_path << " (depth_tables: linear and rational, " << res.calibrated << " primitives)\n";
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "sl_calibrate_plane: " << e.what() << "\nnothing written.\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Runs the project's Google Benchmark binaries (renderer, decoder) on one core and writes their
+# JSON and console output to bench_results/. Speed is measured here, never asserted in tests.
+#   make bench            (after make build)
+set -uo pipefail
+ws="$1"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+out="$root/bench_results"
+mkdir -p "$out"
+status=0
+for bin in sl_camera/sl_camera_benchmark sl_decoder/sl_decoder_benchmark; do
+  exe="$ws/devel/lib/$bin"
+  name="$(basename "$bin")"
+  if [[ ! -x "$exe" ]]; then
+    echo "run_benchmarks: $exe not built (is libbenchmark-dev installed?)" >&2
+    status=1
+    continue
+  fi
+  echo "== $name"
+  # taskset pins the run to one core when it is available (the floors are for one core).
+  pin=()
+  command -v taskset >/dev/null && pin=(taskset -c 0)
+  if ! "${pin[@]}" "$exe" --benchmark_repetitions=10 --benchmark_report_aggregates_only=true \
+      --benchmark_out="$out/$name.json" --benchmark_out_format=json | tee "$out/$name.txt"; then
+    echo "run_benchmarks: $name failed" >&2
+    status=1
+  fi
+done
+echo "results in $out/"
+exit $status

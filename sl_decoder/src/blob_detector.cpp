@@ -18,13 +18,42 @@ void addRow(int32_t* __restrict sums, const uint8_t* __restrict row, int w, int3
   for (int x = 0; x < w; ++x)
     sums[x] += sign * static_cast<int32_t>(row[x]);
 }
+
+// sums[x] += add[x] - sub[x]: the window slides by one row in one pass.
+void slideRows(int32_t* __restrict sums, const uint8_t* __restrict add, const uint8_t* __restrict sub, int w)
+{
+  for (int x = 0; x < w; ++x)
+    sums[x] += static_cast<int32_t>(add[x]) - static_cast<int32_t>(sub[x]);
+}
+
+// pre[0] = 0, pre[x + 1] = pre[x] + v[x]. The serial chain of a scalar loop is the slowest part of
+// the threshold; four lanes at a time (two shifted adds, then the carry) shorten it fourfold.
+void prefixSum(const int32_t* __restrict v, int32_t* __restrict pre, int w)
+{
+  pre[0] = 0;
+  int x = 0;
+#if defined(__SSE2__)
+  __m128i carry = _mm_setzero_si128();
+  for (; x + 4 <= w; x += 4)
+  {
+    __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v + x));
+    a = _mm_add_epi32(a, _mm_slli_si128(a, 4));
+    a = _mm_add_epi32(a, _mm_slli_si128(a, 8));
+    a = _mm_add_epi32(a, carry);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(pre + x + 1), a);
+    carry = _mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 3, 3));
+  }
+#endif
+  for (; x < w; ++x)
+    pre[x + 1] = pre[x] + v[x];
+}
 }  // namespace
 
 BlobDetector::BlobDetector(const DecoderConfig& config) : config_(config)
 {
 }
 
-int BlobDetector::find(int i)
+inline int BlobDetector::find(int i)
 {
   while (runs_[static_cast<size_t>(i)].parent != i)
   {
@@ -35,7 +64,7 @@ int BlobDetector::find(int i)
   return i;
 }
 
-void BlobDetector::unite(int a, int b)
+inline void BlobDetector::unite(int a, int b)
 {
   a = find(a);
   b = find(b);
@@ -60,7 +89,9 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
   const float offset = static_cast<float>(config_.threshold_offset);
   col_sum_.assign(static_cast<size_t>(w), 0);
   prefix_.resize(static_cast<size_t>(w) + 1);
-  mask_.resize(static_cast<size_t>(w) + 16);
+  const int words = (w + 63) >> 6;
+  bits_.resize(static_cast<size_t>(words) + 1);  // + 1: a 16-bit group may spill past the last word
+  weight_.resize(static_cast<size_t>(w));
   int32_t* cs = col_sum_.data();
   int32_t* pre = prefix_.data();
   for (int y = 0; y < std::min(h, r); ++y)
@@ -72,29 +103,32 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
   {
     // Slide the window's rows: add row y + r, drop row y - r - 1.
     // (restrict: the byte rows could alias the sums as far as the compiler knows)
-    if (y + r < h)
+    if (y + r < h && y - r - 1 >= 0)
+      slideRows(cs, image.ptr<uint8_t>(y + r), image.ptr<uint8_t>(y - r - 1), w);
+    else if (y + r < h)
       addRow(cs, image.ptr<uint8_t>(y + r), w, 1);
-    if (y - r - 1 >= 0)
+    else if (y - r - 1 >= 0)
       addRow(cs, image.ptr<uint8_t>(y - r - 1), w, -1);
     const int rows = std::min(h, y + r + 1) - std::max(0, y - r);
-    pre[0] = 0;
-    for (int x = 0; x < w; ++x)
-      pre[x + 1] = pre[x] + cs[x];
+    prefixSum(cs, pre, w);
     // Foreground test value > mean + offset as value * area > sum + offset * area, in integers.
     // The interior has a constant window area, so that loop vectorises.
     const uint8_t* src = image.ptr<uint8_t>(y);
-    uint8_t* mask = mask_.data();
+    uint64_t* bits = bits_.data();
+    float* weight = weight_.data();
+    std::fill(bits, bits + words + 1, uint64_t{ 0 });
+    auto setBit = [bits](int x) { bits[x >> 6] |= uint64_t{ 1 } << (x & 63); };
     const int lo = std::min(r, w), hi = std::max(lo, w - r - 1);
     const int32_t area_in = rows * (2 * r + 1);
     const int32_t offset_in = static_cast<int32_t>(offset * static_cast<float>(area_in) + 0.5f);
     int x_in = lo;
 #if defined(__SSE2__)
-    // 16 pixels at a time: value > (sum + offset * area) / area, in floats.
+    // 16 pixels at a time: value > (sum + offset * area) / area, in floats; the 16 flags go into the
+    // row's bit mask at once, the weights value - mean into weight_.
     {
       const __m128 inv_area = _mm_set1_ps(1.0f / static_cast<float>(area_in));
       const __m128 off = _mm_set1_ps(static_cast<float>(offset_in) / static_cast<float>(area_in));
       const __m128i zero = _mm_setzero_si128();
-      const __m128i one = _mm_set1_epi8(1);
       for (; x_in + 16 <= hi; x_in += 16)
       {
         const __m128i v8 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + x_in));
@@ -106,16 +140,31 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
         {
           const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + x_in + 4 * k + r + 1));
           const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + x_in + 4 * k - r));
-          const __m128 thr = _mm_add_ps(_mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(a, b)), inv_area), off);
-          cmp[k] = _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(v32[k]), thr));
+          const __m128 mean = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(a, b)), inv_area);
+          const __m128 value = _mm_cvtepi32_ps(v32[k]);
+          cmp[k] = _mm_castps_si128(_mm_cmpgt_ps(value, _mm_add_ps(mean, off)));
+          _mm_storeu_ps(weight + x_in + 4 * k, _mm_sub_ps(value, mean));
         }
         const __m128i packed = _mm_packs_epi16(_mm_packs_epi32(cmp[0], cmp[1]), _mm_packs_epi32(cmp[2], cmp[3]));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(mask + x_in), _mm_and_si128(packed, one));
+        const uint64_t m = static_cast<uint32_t>(_mm_movemask_epi8(packed));
+        if (m != 0)
+        {
+          const int shift = x_in & 63;
+          bits[x_in >> 6] |= m << shift;
+          if (shift > 48)
+            bits[(x_in >> 6) + 1] |= m >> (64 - shift);
+        }
       }
     }
 #endif
+    const float inv_area_in = 1.0f / static_cast<float>(area_in);
     for (int x = x_in; x < hi; ++x)
-      mask[x] = static_cast<int32_t>(src[x]) * area_in > pre[x + r + 1] - pre[x - r] + offset_in ? 1 : 0;
+    {
+      if (static_cast<int32_t>(src[x]) * area_in > pre[x + r + 1] - pre[x - r] + offset_in)
+        setBit(x);
+      weight[x] = static_cast<float>(src[x]) - static_cast<float>(pre[x + r + 1] - pre[x - r]) * inv_area_in;
+    }
+    // The borders, where the window is cut by the image edge.
     for (int x = 0; x < w; ++x)
     {
       if (x >= lo && x < hi)
@@ -125,45 +174,55 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
       const int xa = std::max(0, x - r), xb = std::min(w, x + r + 1);
       const int32_t area = rows * (xb - xa);
       const int32_t off = static_cast<int32_t>(offset * static_cast<float>(area) + 0.5f);
-      mask[x] = static_cast<int32_t>(src[x]) * area > pre[xb] - pre[xa] + off ? 1 : 0;
+      if (static_cast<int32_t>(src[x]) * area > pre[xb] - pre[xa] + off)
+        setBit(x);
+      weight[x] = static_cast<float>(src[x]) - static_cast<float>(pre[xb] - pre[xa]) / static_cast<float>(area);
     }
-    std::memset(mask + w, 0, 8);  // sentinel for the word-wise skip
-    // Local mean of a foreground pixel (only those need it, for the centroid weights).
-    const float inv_area_in = 1.0f / static_cast<float>(area_in);
-    auto meanAt = [&](int x) {
-      if (x >= lo && x < hi)
-        return static_cast<float>(pre[x + r + 1] - pre[x - r]) * inv_area_in;
-      const int xa = std::max(0, x - r), xb = std::min(w, x + r + 1);
-      return static_cast<float>(pre[xb] - pre[xa]) / static_cast<float>(rows * (xb - xa));
-    };
 
+    // Runs from the bit mask: the first set bit starts a run, the first clear bit after it ends it.
     const int cur_begin = static_cast<int>(runs_.size());
-    int x = 0;
-    while (x < w)
+    int k = 0;
+    uint64_t m = bits[0];
+    for (;;)
     {
-      // Skip background eight pixels at a time, then collect one run.
-      uint64_t word;
-      std::memcpy(&word, mask + x, 8);
-      if (word == 0)
-      {
-        x += 8;
-        continue;
-      }
-      while (!mask[x])
-        ++x;
-      if (x >= w)
+      while (m == 0 && ++k < words)
+        m = bits[k];
+      if (m == 0)
         break;
-      Run run{ y, x, x, static_cast<int32_t>(runs_.size()), 0.f, 0.f, 0.f };
-      while (mask[x])
+      const int b0 = __builtin_ctzll(m);
+      const int x0 = (k << 6) + b0;
+      uint64_t z = ~m & (~uint64_t{ 0 } << b0);
+      while (z == 0 && ++k < words)
       {
-        const float weight = static_cast<float>(src[x]) - meanAt(x);
-        run.sw += weight;
-        run.swx += weight * static_cast<float>(x);
-        run.peak = std::max(run.peak, weight);
-        ++x;
+        m = bits[k];
+        z = ~m;
       }
-      run.x1 = x;
-      runs_.push_back(run);
+      int x1 = w;
+      m = 0;
+      if (z != 0)
+      {
+        const int b1 = __builtin_ctzll(z);
+        x1 = (k << 6) + b1;
+        m = bits[k] & (~uint64_t{ 0 } << b1);  // the later runs of this word
+      }
+      float sw = 0.f, swx = 0.f, peak = 0.f;
+      for (int x = x0; x < x1; ++x)
+      {
+        const float wx = weight[x];
+        sw += wx;
+        swx += wx * static_cast<float>(x);
+        peak = std::max(peak, wx);
+      }
+      // Filled in place: a Run assembled on the stack and copied stalls on store forwarding.
+      runs_.emplace_back();
+      Run& run = runs_.back();
+      run.y = y;
+      run.x0 = x0;
+      run.x1 = x1;
+      run.parent = static_cast<int32_t>(runs_.size() - 1);
+      run.sw = sw;
+      run.swx = swx;
+      run.peak = peak;
     }
     const int cur_end = static_cast<int>(runs_.size());
     // Two-pointer sweep: [a, b) and [c, d) are 8-connected when a <= d and c <= b.

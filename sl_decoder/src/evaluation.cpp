@@ -15,6 +15,7 @@ void EvalStats::add(const EvalStats& o)
   identified += o.identified;
   decoded += o.decoded;
   valid += o.valid;
+  valid_visible += o.valid_visible;
   wrong += o.wrong;
   unverifiable += o.unverifiable;
   near_points += o.near_points;
@@ -76,6 +77,7 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::R
       far[i] = std::max(far[i], depth[x]);
     }
   }
+  std::vector<char> visible(static_cast<size_t>(cells), 0);
   std::vector<int> counts;
   for (int n : lit)
     if (n > 0)
@@ -86,7 +88,10 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::R
     const int median = counts[counts.size() / 2];
     // Visible: (nearly) all of the primitive is seen, on one surface (no depth step across it).
     for (size_t i = 0; i < lit.size(); ++i)
-      s.visible += 5 * lit[i] >= 4 * median && far[i] - near[i] <= std::max(0.01f, 0.02f * near[i]);
+    {
+      visible[i] = 5 * lit[i] >= 4 * median && far[i] - near[i] <= std::max(0.01f, 0.02f * near[i]);
+      s.visible += visible[i];
+    }
   }
 
   s.identified = result.identified;
@@ -132,6 +137,8 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::R
       ++s.unverifiable;
     else if (!match)
       ++s.wrong;
+    else if (visible[static_cast<size_t>(target)])
+      ++s.valid_visible;
 
     // Depth error: bilinear ground truth when the four pixels agree, else the nearest pixel.
     const int u0 = static_cast<int>(std::floor(b.u)), v0 = static_cast<int>(std::floor(b.v));

@@ -54,13 +54,16 @@ private:
     float sw, swx, swy, peak;
   };
 
-  int find(int i);
-  void unite(int a, int b);
+  // Inline (defined in blob_detector.cpp, the only user): called per run, a call through the shared
+  // library's PLT cost more than the work.
+  inline int find(int i);
+  inline void unite(int a, int b);
 
   DecoderConfig config_;
   std::vector<int32_t> col_sum_;    // column sums over the window rows of the current row
   std::vector<int32_t> prefix_;     // prefix sums of col_sum_
-  std::vector<uint8_t> mask_;       // foreground flags of the current row, with a zero sentinel
+  std::vector<uint64_t> bits_;      // foreground flags of the current row, one bit per pixel
+  std::vector<float> weight_;       // value minus local mean of the current row's pixels
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
   std::vector<Acc> acc_;

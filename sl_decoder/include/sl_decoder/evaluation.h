@@ -19,6 +19,7 @@ struct EvalStats
   int identified = 0;      ///< blobs whose shape was identified
   int decoded = 0;         ///< blobs given a (row, col)
   int valid = 0;           ///< 3D points produced
+  int valid_visible = 0;   ///< correct points on visible primitives (the part of valid that visible counts)
   int wrong = 0;           ///< points whose (row, col) is not the primitive lighting that pixel
   int unverifiable = 0;    ///< points where the ground truth has no projector light nearby
   int near_points = 0;     ///< valid points on surfaces 15+ mm in front of the frame's background
@@ -26,8 +27,9 @@ struct EvalStats
   double max_abs_error = 0.0;  ///< m
   int with_depth = 0;          ///< points that have a ground-truth depth
 
-  /// @brief Valid points per visible primitive, percent.
-  double validPercent() const { return visible > 0 ? 100.0 * valid / visible : 0.0; }
+  /// @brief Share of the visible primitives that gave a correct point, percent (at most 100; points on
+  /// primitives seen only in part, at borders and depth edges, come on top: valid - valid_visible).
+  double validPercent() const { return visible > 0 ? 100.0 * valid_visible / visible : 0.0; }
   /// @brief Mean |depth error|, mm.
   double meanErrorMm() const { return with_depth > 0 ? 1000.0 * sum_abs_error / with_depth : 0.0; }
   /// @brief Max |depth error|, mm.

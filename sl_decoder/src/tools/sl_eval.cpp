@@ -80,8 +80,8 @@ int main(int argc, char** argv)
     if (!rig.tables.linear.empty())
       models.push_back(sl_decoder::DepthMode::Linear);
 
-    std::printf("%-22s %-13s %7s %7s %6s %9s %8s %8s\n", "scene", "model", "visible", "valid%", "wrong", "mean_mm",
-                "max_mm", "near_pts");
+    std::printf("%-22s %-13s %7s %7s %6s %6s %9s %8s %8s\n", "scene", "model", "visible", "valid%", "extra", "wrong",
+                "mean_mm", "max_mm", "near_pts");
     sl_decoder::EvalStats total;
     for (const std::string& scene : scenes)
       for (sl_decoder::DepthMode model : models)
@@ -90,8 +90,9 @@ int main(int argc, char** argv)
         config.depth_mode = model;
         const sl_decoder::SceneReport r = sl_decoder::evaluateScene(rig, scene, config, frames, settings);
         const sl_decoder::EvalStats& s = r.stats;
-        std::printf("%-22s %-13s %7.1f %7.1f %6d %9.2f %8.2f %8.1f\n", r.scene.c_str(), r.model.c_str(),
-                    static_cast<double>(s.visible) / s.frames, s.validPercent(), s.wrong, s.meanErrorMm(),
+        std::printf("%-22s %-13s %7.1f %7.1f %6.1f %6d %9.2f %8.2f %8.1f\n", r.scene.c_str(), r.model.c_str(),
+                    static_cast<double>(s.visible) / s.frames, s.validPercent(),
+                    static_cast<double>(s.valid - s.valid_visible) / s.frames, s.wrong, s.meanErrorMm(),
                     s.maxErrorMm(), static_cast<double>(s.near_points) / s.frames);
         if (model == sl_decoder::DepthMode::Triangulation)
           total.add(s);

@@ -318,6 +318,51 @@ objects:
     EXPECT_LT(shadow_max, 0.2 * lit_max);
     EXPECT_GT(lit_max, 100.0);
   }
+  // With shadows off the same wall pixels are all lit.
+  SimSettings no_shadows = noiseless();
+  no_shadows.shadows = false;
+  const RenderOutput open = render(s, scene, no_shadows);
+  int wall = 0, unlit = 0;
+  for (int v = 100; v < 380; ++v)
+    for (int u = 0; u < open.depth.cols; ++u)
+      if (open.depth.at<float>(v, u) > 0.85f)
+      {
+        ++wall;
+        unlit += std::isnan(open.projector_coords.at<cv::Vec2f>(v, u)[0]) &&
+                 !std::isnan(out.projector_coords.at<cv::Vec2f>(v, u)[0]);
+      }
+  EXPECT_GT(wall, 1000);
+  EXPECT_EQ(unlit, 0);
+  // ... and the post's shadow (unlit wall with shadows on) gets the pattern.
+  int lit_now = 0;
+  for (int v = 100; v < 380; ++v)
+    for (int u = 0; u < out.depth.cols; ++u)
+      if (out.depth.at<float>(v, u) > 0.85f && std::isnan(out.projector_coords.at<cv::Vec2f>(v, u)[0]))
+        lit_now += !std::isnan(open.projector_coords.at<cv::Vec2f>(v, u)[0]);
+  EXPECT_GT(lit_now, 100);
+}
+
+TEST(Renderer, IrradianceFallsWithDistanceUnlessSwitchedOff)
+{
+  const SimFixture s;
+  // The brightest pattern pixels of a white plane at 500 and at 900 mm: with the falloff the near
+  // plane gets (0.9 / 0.5)^2 = 3.2 times the light (exposure lowered so that it does not saturate);
+  // without it both get the same.
+  SimSettings on = noiseless();
+  on.exposure = 0.25;
+  on.ambient = 0.0;
+  SimSettings off = on;
+  off.irradiance_falloff = false;
+  const cv::Rect centre(250, 140, 250, 200);
+  double peak[2][2];
+  for (int f = 0; f < 2; ++f)
+    for (int d = 0; d < 2; ++d)
+    {
+      const Scene scene = loadScene(kScenes + (d == 0 ? "/plane_500.yaml" : "/plane_900.yaml"));
+      peak[f][d] = percentile(render(s, scene, f == 0 ? on : off).image, 99.5, centre);
+    }
+  EXPECT_GT(peak[0][0], 2.3 * peak[0][1]);
+  EXPECT_NEAR(peak[1][0] / peak[1][1], 1.0, 0.2);
 }
 
 TEST(Renderer, SameSeedSameBytesOtherSeedOtherNoise)

@@ -52,6 +52,14 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
   if (config_.depth_mode == DepthMode::Linear && rig_.tables.linear.size() != cells)
     throw std::invalid_argument("depth_mode linear needs depth_tables.linear in the calibration file");
   index_.reset(new EpipolarIndex(rig_, config_));
+  try
+  {
+    words_.reset(new sl_projector::WordTable(pattern_.array()));
+  }
+  catch (const std::invalid_argument&)
+  {
+    words_.reset();  // a pattern whose words repeat decodes from candidates and support alone
+  }
   owner_.assign(cells, -1);
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
@@ -361,6 +369,41 @@ void Decoder::correspond(DecodeResult& result)
       continue;
     label_[i] = best;
   }
+
+  // The prototype's look-up: a blob whose four neighbours are all identified has a full word
+  // (centre, N, W, S, E), which the direct 4^5 table turns into its primitive in O(1). The word
+  // decodes a blob the first pass left open when that primitive is one of its tight candidates
+  // (on its epipolar curve), is supported by a neighbour's geometry, and no candidate has more
+  // support. Words read across a depth edge are caught by the validation below.
+  if (words_)
+    for (size_t i = 0; i < blobs.size(); ++i)
+    {
+      if (label_[i] >= 0 || cand_begin_[i] == cand_begin_[i + 1])
+        continue;
+      const Blob& b = blobs[i];
+      int shape[4];
+      bool full = true;
+      for (int d = 0; d < 4 && full; ++d)
+      {
+        const int n = b.neighbour[d];
+        shape[d] = n >= 0 ? blobs[static_cast<size_t>(n)].shape : 0;
+        full = shape[d] > 0;
+      }
+      if (!full)
+        continue;
+      const sl_projector::GridPos g = words_->lookup(b.shape, shape[kNorth], shape[kWest], shape[kSouth], shape[kEast]);
+      if (!g.valid())
+        continue;
+      const int k = findCandidate(static_cast<int>(i), g.row * cols + g.col);
+      if (k < 0 || !cands_[static_cast<size_t>(k)].tight)
+        continue;
+      const int support = popcount4(cands_[static_cast<size_t>(k)].bits);
+      bool better = false;
+      for (int32_t j = cand_begin_[i]; j < cand_begin_[i + 1] && !better; ++j)
+        better = j != k && popcount4(cands_[static_cast<size_t>(j)].bits) > support;
+      if (support >= 2 && !better)
+        label_[i] = k;
+    }
 
   // Growth: a blob next to decoded ones takes the primitive they imply, if that is one of its
   // candidates at a continuous depth, its shape is confirmed across the epipolar direction, and no

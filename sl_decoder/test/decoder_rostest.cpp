@@ -2,6 +2,7 @@
 // puts it; the lazy debug and depth outputs work; a missing transform publishes nothing.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -63,6 +64,25 @@ TEST(DecoderNodelet, DebugAndDepthImagesOnDemand)
       EXPECT_NEAR(z[i], 0.70, 0.02);
     }
   EXPECT_GT(valid, 600u);
+}
+
+TEST(DecoderNodelet, MissingTransformPublishesNothing)
+{
+  ros::NodeHandle nh;
+  std::atomic<int> good{ 0 }, bad{ 0 };
+  ros::Subscriber ok = nh.subscribe<sensor_msgs::PointCloud2>(
+      "points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++good; });
+  ros::Subscriber no_tf = nh.subscribe<sensor_msgs::PointCloud2>(
+      "no_tf/points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++bad; });
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  // Both decoders see the same images; wait until the one with a transform has published a few
+  // clouds since both were subscribed.
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
+  while (good < 6 && ros::WallTime::now() < give_up)
+    ros::WallDuration(0.05).sleep();
+  EXPECT_GE(good.load(), 6) << "the decoder with a transform published too little";
+  EXPECT_EQ(bad.load(), 0) << "points published without a transform to their frame";
 }
 
 int main(int argc, char** argv)

@@ -52,6 +52,12 @@ struct SimSettings
   double camera_base_blur = 0.3;
   /// Thin-lens defocus blur of projector and camera away from their focus distances.
   bool defocus = true;
+  /// The projector's shadows: a point the projector cannot see (an object between them) gets no
+  /// pattern (false: every point facing the projector is lit, as if occluders were transparent).
+  bool shadows = true;
+  /// Projector irradiance falls with the square of the distance and the cosine of the incidence
+  /// angle (false: the irradiance at the focus distance and normal incidence everywhere).
+  bool irradiance_falloff = true;
   /// Camera samples per pixel on object, face, shadow and texture edges: 1 (off), 4 (the centre and
   /// three rays 0.4 px from it, 120 degrees apart) or 16 (a 4 x 4 grid). Elsewhere one ray per
   /// pixel; the pattern is pre-filtered by its footprint instead.

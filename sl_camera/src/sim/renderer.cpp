@@ -433,6 +433,8 @@ struct Renderer::Impl
     kp.inv_half_diag2 = 1.f / (kp.frame_cx * kp.frame_cx + kp.frame_cy * kp.frame_cy + 1e-6f);
     kp.falloff = static_cast<float>(1.0 - s.projector_vignetting);
     kp.power_focus2 = static_cast<float>(s.projector_power * s.projector_focus_distance * s.projector_focus_distance);
+    kp.power = static_cast<float>(s.projector_power);
+    kp.inverse_square = s.irradiance_falloff;
     // Thin lens: the blur circle's diameter on the sensor, in px, is
     //   A f_px z_f / (z_f - f) |1/z - 1/z_f|, aperture A = f / N, focal length f = f_px * pitch;
     // a disc of diameter b has the second moment of a Gaussian of sigma b / 4.
@@ -780,7 +782,7 @@ struct Renderer::Impl
     shadow_list.clear();
     float box[5];
     const bool any_lit = sim::litBounds(b.u, b.v, b.lit, b.pz, n, box);
-    if (any_lit)
+    if (any_lit && settings.shadows)  // with shadows off no occluder is gathered
     {
       const int tx0 = std::min(proj_tiles.nx - 1, static_cast<int>((box[0] + 0.5f) * (1.f / kTile)));
       const int tx1 = std::min(proj_tiles.nx - 1, static_cast<int>((box[1] + 0.5f) * (1.f / kTile)));

@@ -44,6 +44,8 @@ const std::vector<Field>& fields()
     SL_DOUBLE(camera_pixel_size, "m", "camera pixel pitch"),
     SL_DOUBLE(camera_base_blur, "camera px", "camera blur at focus (Gaussian sigma)"),
     SL_BOOL(defocus, "thin-lens defocus blur of projector and camera"),
+    SL_BOOL(shadows, "projector shadows: points the projector cannot see get no pattern"),
+    SL_BOOL(irradiance_falloff, "projector irradiance falls with distance squared and incidence cosine"),
     SL_INT(antialias, "rays", "rays per edge pixel: 1 (off), 4 or 16"),
     SL_DOUBLE(vignetting, "", "image-corner illumination relative to the centre"),
     SL_DOUBLE(glare, "", "fraction of light scattered into a wide halo (sigma 10 px)"),

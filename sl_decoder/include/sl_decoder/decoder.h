@@ -16,6 +16,7 @@
 #include "sl_decoder/epipolar_index.h"
 #include "sl_decoder/shape_classifier.h"
 #include "sl_projector/pattern.h"
+#include "sl_projector/word_table.h"
 #include "sl_projector/rig.h"
 
 namespace sl_decoder
@@ -112,6 +113,7 @@ private:
   DecoderConfig config_;
   sl_projector::Pattern pattern_;
   std::unique_ptr<EpipolarIndex> index_;
+  std::unique_ptr<sl_projector::WordTable> words_;  // null when the pattern's words repeat
   BlobDetector detector_;
   ShapeClassifier classifier_;
   // Per-frame work buffers.

@@ -8,6 +8,9 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/bench_results"
 mkdir -p "$out"
 status=0
+# taskset pins each run to one core when it is available (the floors are for one core).
+pin=()
+command -v taskset >/dev/null && pin=(taskset -c 0)
 for bin in sl_camera/sl_camera_benchmark sl_decoder/sl_decoder_benchmark; do
   exe="$ws/devel/lib/$bin"
   name="$(basename "$bin")"
@@ -17,9 +20,6 @@ for bin in sl_camera/sl_camera_benchmark sl_decoder/sl_decoder_benchmark; do
     continue
   fi
   echo "== $name"
-  # taskset pins the run to one core when it is available (the floors are for one core).
-  pin=()
-  command -v taskset >/dev/null && pin=(taskset -c 0)
   if ! "${pin[@]}" "$exe" --benchmark_repetitions=10 --benchmark_report_aggregates_only=true \
       --benchmark_out="$out/$name.json" --benchmark_out_format=json | tee "$out/$name.txt"; then
     echo "run_benchmarks: $name failed" >&2

@@ -33,6 +33,8 @@
 #include <sl_obstacle/ObstacleStatus.h>
 #include <yaml-cpp/yaml.h>
 
+#include "system_test_main.h"
+
 namespace
 {
 
@@ -347,12 +349,5 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "bag_regression_rostest");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return sl_bringup_test::runSystemTests(argc, argv, "bag_regression_rostest");
 }

@@ -1,80 +1,34 @@
 // The room scene for a minute (room.test): the whole system runs the simulated Create in
 // sl_camera/scenes/room.yaml. It must never touch anything (camera simulator's contact signal,
 // the Create's bumpers), and it must really do its job meanwhile: drive, stop before an
-// obstacle (BLOCKED), turn away and drive on (a goal of at least 0.1 m after a turn).
+// obstacle (BLOCKED), turn away and drive on (a goal of at least 0.1 m after a turn), or say that
+// no direction is free (NO_FREE_DIRECTION).
 //
 // Private parameters: ~duration (s of simulated running, 60), ~min_travel (m of path, 0.3),
 // ~min_turn (rad turned in total, 0.5).
 #include <cmath>
-#include <mutex>
 
-#include <create_driver/Hazards.h>
-#include <geometry_msgs/PoseStamped.h>
-#include <gtest/gtest.h>
-#include <ros/ros.h>
-#include <sl_obstacle/ObstacleStatus.h>
-#include <std_msgs/UInt8.h>
+#include "sim_watch.h"
 
 namespace
 {
 
-double yawOf(const geometry_msgs::Pose& p)
-{
-  return 2.0 * std::atan2(p.orientation.z, p.orientation.w);
-}
+using sl_bringup_test::yawOf;
 
-class Room : public ::testing::Test
+class Room : public sl_bringup_test::SimWatch
 {
 protected:
-  void SetUp() override
+  void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
   {
-    pose_sub_ = nh_.subscribe("true_pose", 100, &Room::onPose, this);
-    contact_sub_ = nh_.subscribe("contact", 50, &Room::onContact, this);
-    hazards_sub_ = nh_.subscribe("hazards", 50, &Room::onHazards, this);
-    status_sub_ = nh_.subscribe("obstacle_status", 100, &Room::onStatus, this);
+    if (!previous)
+      return;
+    path_ += std::hypot(now.position.x - previous->position.x, now.position.y - previous->position.y);
+    turned_ += std::abs(std::remainder(yawOf(now) - yawOf(*previous), 2.0 * M_PI));
   }
 
-  void TearDown() override
-  {
-    // No callback may run on the fixture once it is being destroyed.
-    pose_sub_.shutdown();
-    contact_sub_.shutdown();
-    hazards_sub_.shutdown();
-    status_sub_.shutdown();
-  }
-
-  void onPose(const geometry_msgs::PoseStamped& msg)
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (have_pose_)
-    {
-      path_ += std::hypot(msg.pose.position.x - pose_.position.x, msg.pose.position.y - pose_.position.y);
-      turned_ += std::abs(std::remainder(yawOf(msg.pose) - yawOf(pose_), 2.0 * M_PI));
-    }
-    have_pose_ = true;
-    pose_ = msg.pose;
-  }
-
-  void onContact(const std_msgs::UInt8& msg)
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++contact_messages_;
-    if (msg.data != 0 && contact_bits_ == 0)
-      ROS_ERROR("contact %d at (%.3f, %.3f)", msg.data, pose_.position.x, pose_.position.y);
-    contact_bits_ |= msg.data;
-  }
-
-  void onHazards(const create_driver::Hazards& msg)
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++hazard_messages_;
-    bumped_ = bumped_ || msg.bump_left || msg.bump_right;
-  }
-
-  void onStatus(const sl_obstacle::ObstacleStatus& msg)
+  void onStatus(const sl_obstacle::ObstacleStatus& msg) override
   {
     using S = sl_obstacle::ObstacleStatus;
-    std::lock_guard<std::mutex> lock(mutex_);
     ++statuses_;
     if (msg.state == S::BLOCKED && msg.reason_code == S::REASON_OBSTACLE && !blocked_)
       ROS_INFO("room: stopped before an obstacle: %s", msg.reason.c_str());
@@ -97,14 +51,9 @@ protected:
       ++drive_commands_;
   }
 
-  ros::NodeHandle nh_;
-  ros::Subscriber pose_sub_, contact_sub_, hazards_sub_, status_sub_;
-  std::mutex mutex_;
-  bool have_pose_ = false;
-  geometry_msgs::Pose pose_;
   double path_ = 0.0, turned_ = 0.0;
-  int contact_messages_ = 0, contact_bits_ = 0, hazard_messages_ = 0, statuses_ = 0, drive_commands_ = 0;
-  bool bumped_ = false, blocked_ = false, turned_after_block_ = false, drove_after_turn_ = false;
+  int statuses_ = 0, drive_commands_ = 0;
+  bool blocked_ = false, turned_after_block_ = false, drove_after_turn_ = false;
   bool gave_up_after_turn_ = false;
 };
 
@@ -166,12 +115,5 @@ TEST_F(Room, RunsAMinuteWithoutContact)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "room_rostest");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return sl_bringup_test::runSystemTests(argc, argv, "room_rostest");
 }

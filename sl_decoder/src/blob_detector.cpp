@@ -1,7 +1,6 @@
 #include "sl_decoder/blob_detector.h"
 
 #include <algorithm>
-#include <cstring>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>

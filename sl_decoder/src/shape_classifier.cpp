@@ -218,20 +218,21 @@ void ShapeClassifier::refineCentroid(const cv::Mat& image, Blob& blob, int margi
     }
   }
 #endif
-  for (int y = y0; y < y1 && !vector_done; ++y)
-  {
-    const uint8_t* row = image.ptr<uint8_t>(y);
-    int32_t rw = 0, rwx = 0;
-    for (int x = x0; x < x1; ++x)
+  if (!vector_done)
+    for (int y = y0; y < y1; ++y)
     {
-      const int32_t w = std::max(0, static_cast<int32_t>(row[x]) - dark);
-      rw += w;
-      rwx += w * x;
+      const uint8_t* row = image.ptr<uint8_t>(y);
+      int32_t rw = 0, rwx = 0;
+      for (int x = x0; x < x1; ++x)
+      {
+        const int32_t w = std::max(0, static_cast<int32_t>(row[x]) - dark);
+        rw += w;
+        rwx += w * x;
+      }
+      sw += rw;
+      swx += rwx;
+      swy += static_cast<int64_t>(rw) * y;
     }
-    sw += rw;
-    swx += rwx;
-    swy += static_cast<int64_t>(rw) * y;
-  }
   if (sw > 0)
   {
     blob.u = static_cast<float>(static_cast<double>(swx) / static_cast<double>(sw));

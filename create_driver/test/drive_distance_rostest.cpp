@@ -50,6 +50,8 @@ TEST(DriveDistance, HalfMetreWithin5mm)
     EXPECT_EQ(r->reason, DriveDistanceResult::REACHED) << r->message;
     EXPECT_NEAR(r->distance_travelled, d, 0.005);
     const double x1 = restingX(sys);
+    ROS_INFO("drive_distance %+.3f m: reported %+.4f m, true displacement %+.4f m (error %+.1f mm)", d,
+             r->distance_travelled, x1 - x0, 1000.0 * (x1 - x0 - d));
     EXPECT_NEAR(x1 - x0, d, 0.005) << "true displacement off the goal";
   }
 }

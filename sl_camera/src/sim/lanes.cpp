@@ -438,7 +438,9 @@ SL_SIMD void projectLanes(const KProjector& projector, const float* __restrict d
     const bool ok = hit & (cos_p > 0.f) & (qz > 0.f) & (uu >= -0.5f) & (vv >= -0.5f) & (uu < p.umax) & (vv < p.vmax);
     const float fu = uu - p.frame_cx, fv = vv - p.frame_cy;
     const float fall = 1.f - p.falloff * (fu * fu + fv * fv) * p.inv_half_diag2;
-    const float irradiance = (p.inverse_square ? p.power_focus2 * cos_p / dist2 : p.power) * fall;
+    // falloff_weight 1, flat_power 0: the physical P cos / d^2; 0 and the power: no falloff. A blend,
+    // not a branch, so that the loop still vectorises.
+    const float irradiance = (p.power_focus2 * cos_p / dist2 * p.falloff_weight + p.flat_power) * fall;
     // Blur of the pattern on the surface, projector px^2: base, defocus, the camera pixel's
     // footprint (a box of fp projector px: fp^2 / 12) and the mirror's own box (1/12), less what
     // bilinear interpolation adds (1/6).

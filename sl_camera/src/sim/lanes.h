@@ -69,8 +69,8 @@ struct KProjector
   float umax = 0, vmax = 0;  ///< frame size - 0.5
   float frame_cx = 0, frame_cy = 0, inv_half_diag2 = 0, falloff = 0;  ///< lens falloff: 1 - falloff * r^2
   float power_focus2 = 0;    ///< projector_power * focus distance^2
-  float power = 0;           ///< projector_power (irradiance without distance and incidence falloff)
-  bool inverse_square = true;  ///< irradiance falls with distance^2 and the incidence cosine
+  float falloff_weight = 1;  ///< 1: irradiance falls with distance^2 and the incidence cosine; 0: it does not
+  float flat_power = 0;      ///< irradiance added when it does not fall (projector_power), else 0
   float defocus_k = 0, inv_focus = 0, base2 = 0, footprint_k = 0;
   float cam_defocus_k = 0, cam_inv_focus = 0, cam_base2 = 0;
   float sigma1 = 0.3f;       ///< sigma of pattern level 1 (level 0 is sharp)

@@ -433,8 +433,8 @@ struct Renderer::Impl
     kp.inv_half_diag2 = 1.f / (kp.frame_cx * kp.frame_cx + kp.frame_cy * kp.frame_cy + 1e-6f);
     kp.falloff = static_cast<float>(1.0 - s.projector_vignetting);
     kp.power_focus2 = static_cast<float>(s.projector_power * s.projector_focus_distance * s.projector_focus_distance);
-    kp.power = static_cast<float>(s.projector_power);
-    kp.inverse_square = s.irradiance_falloff;
+    kp.falloff_weight = s.irradiance_falloff ? 1.f : 0.f;
+    kp.flat_power = s.irradiance_falloff ? 0.f : static_cast<float>(s.projector_power);
     // Thin lens: the blur circle's diameter on the sensor, in px, is
     //   A f_px z_f / (z_f - f) |1/z - 1/z_f|, aperture A = f / N, focal length f = f_px * pitch;
     // a disc of diameter b has the second moment of a Gaussian of sigma b / 4.

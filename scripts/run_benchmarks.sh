@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Runs the project's Google Benchmark binaries (renderer, decoder) on one core and writes their
-# JSON and console output to bench_results/. Speed is measured here, never asserted in tests.
+# Runs the project's Google Benchmark binaries (renderer, decoder, local map and path checks) on one
+# core and writes their JSON and console output to bench_results/. Speed is measured here, never
+# asserted in tests.
 #   make bench            (after make build)
 set -uo pipefail
 ws="$1"
@@ -11,7 +12,7 @@ status=0
 # taskset pins each run to one core when it is available (the floors are for one core).
 pin=()
 command -v taskset >/dev/null && pin=(taskset -c 0)
-for bin in sl_camera/sl_camera_benchmark sl_decoder/sl_decoder_benchmark; do
+for bin in sl_camera/sl_camera_benchmark sl_decoder/sl_decoder_benchmark sl_obstacle/sl_obstacle_benchmark; do
   exe="$ws/devel/lib/$bin"
   name="$(basename "$bin")"
   if [[ ! -x "$exe" ]]; then

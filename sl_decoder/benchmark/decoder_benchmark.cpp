@@ -1,4 +1,5 @@
-// Decoder speed on rendered 752 x 480 frames, per stage and in total, on one core.
+// Decoder speed on rendered 752 x 480 frames, per stage and in total, on one core; also decode plus
+// the per-ray outcomes (RayClassifier).
 //   rosrun sl_decoder sl_decoder_benchmark --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
 #include <stdexcept>
 #include <string>
@@ -6,11 +7,17 @@
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
 
+#include <chrono>
+#include <vector>
+
 #include "sl_decoder/evaluation.h"
+#include "sl_decoder/ray_classifier.h"
 
 namespace
 {
-void decodeScene(benchmark::State& state, const std::vector<std::string>& parts)
+/// Decodes a rendered frame of the scene per iteration; with @p rays also classifies every
+/// primitive's ray (RayClassifier), the cost of the nodelet's `ray_ends`.
+void decodeScene(benchmark::State& state, const std::vector<std::string>& parts, bool rays = false)
 {
   cv::setNumThreads(1);
   const sl_projector::Rig rig = sl_projector::loadRig(sl_decoder::defaultRigFile());
@@ -20,12 +27,23 @@ void decodeScene(benchmark::State& state, const std::vector<std::string>& parts)
   sl_camera::RenderOutput frame;
   renderer.render(scene, decoder.pattern().render(), sl_camera::cameraPoseInWorld(rig), 7, frame);
   sl_decoder::DecodeResult result;
+  sl_decoder::RayClassifier classifier(rig, decoder.config(), sl_decoder::RayConfig());
+  std::vector<sl_decoder::RayOutcome> outcomes;
   decoder.decode(frame.image, result);  // warm-up: buffers reach their size
+  classifier.classify(frame.image, result, outcomes);
   sl_decoder::StageTimes sum;
+  double rays_ms = 0.0;
   for (auto _ : state)
   {
     decoder.decode(frame.image, result);
     benchmark::DoNotOptimize(result.valid);
+    if (rays)
+    {
+      const auto start = std::chrono::steady_clock::now();
+      classifier.classify(frame.image, result, outcomes);
+      rays_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      benchmark::DoNotOptimize(outcomes.data());
+    }
     const sl_decoder::StageTimes& t = result.times;
     sum.detect += t.detect;
     sum.classify += t.classify;
@@ -42,6 +60,13 @@ void decodeScene(benchmark::State& state, const std::vector<std::string>& parts)
   state.counters["correspond_ms"] = sum.correspond / n;
   state.counters["depth_ms"] = sum.depth / n;
   state.counters["points"] = result.valid;
+  if (rays)
+  {
+    state.counters["rays_ms"] = rays_ms / n;
+    state.counters["dark"] = classifier.lastCount(sl_decoder::RayState::Dark);
+    state.counters["lit"] = classifier.lastCount(sl_decoder::RayState::Lit);
+    state.counters["floor"] = classifier.lastCount(sl_decoder::RayState::Floor);
+  }
 }
 
 void BM_DecodePlane700(benchmark::State& state)
@@ -52,8 +77,18 @@ void BM_DecodeRoomView(benchmark::State& state)
 {
   decodeScene(state, { "room" });
 }
+void BM_DecodeAndRaysPlane700(benchmark::State& state)
+{
+  decodeScene(state, { "plane_700" }, true);
+}
+void BM_DecodeAndRaysRoomView(benchmark::State& state)
+{
+  decodeScene(state, { "room" }, true);
+}
 }  // namespace
 
 BENCHMARK(BM_DecodePlane700)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeRoomView)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeAndRaysPlane700)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeAndRaysRoomView)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -6,6 +6,7 @@
 #include <new>
 
 #include "sl_decoder/evaluation.h"
+#include "sl_decoder/ray_classifier.h"
 
 namespace
 {
@@ -44,4 +45,28 @@ TEST(Decoder, NoAllocationPerFrameAfterWarmUp)
     decoder.decode(frame.image, result);
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_GT(result.valid, 300);
+}
+
+TEST(RayClassifier, NoAllocationPerFrameAfterWarmUp)
+{
+  const sl_projector::Rig rig = sl_projector::loadRig(sl_decoder::defaultRigFile());
+  const sl_camera::Scene scene = sl_camera::loadScene(sl_decoder::findScene({ "room" }));
+  sl_camera::Renderer renderer(rig);
+  sl_decoder::Decoder decoder(rig);
+  sl_decoder::RayClassifier rays(rig, decoder.config(), sl_decoder::RayConfig());
+  sl_camera::RenderOutput frame;
+  renderer.render(scene, decoder.pattern().render(), sl_camera::cameraPoseInWorld(rig), 3, frame);
+  sl_decoder::DecodeResult result;
+  std::vector<sl_decoder::RayOutcome> outcomes;
+  decoder.decode(frame.image, result);
+  rays.classify(frame.image, result, outcomes);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 5; ++i)
+  {
+    decoder.decode(frame.image, result);
+    rays.classify(frame.image, result, outcomes);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(outcomes.size(), static_cast<size_t>(rig.pattern.rows * rig.pattern.cols));
+  EXPECT_GT(rays.lastCount(sl_decoder::RayState::Dark), 100);
 }

@@ -1,5 +1,5 @@
 // The decoder in a running system: the cloud arrives in platform_edge with the wall where the scene
-// puts it; the lazy debug and depth outputs work; a missing transform publishes nothing.
+// puts it; the lazy ray ends, debug and depth outputs work; a missing transform publishes nothing.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -21,7 +21,12 @@ TEST(DecoderNodelet, WallArrivesInPlatformEdge)
   std::vector<std::string> names;
   for (const auto& f : cloud->fields)
     names.push_back(f.name);
-  EXPECT_EQ(names, (std::vector<std::string>{ "x", "y", "z", "confidence", "row", "col", "u", "v" }));
+  EXPECT_EQ(names, (std::vector<std::string>{ "x", "y", "z", "confidence", "row", "col", "u", "v", "sx", "sy", "sz" }));
+  // sx, sy, sz: the projector centre in platform_edge (about 25 mm right of the camera's 25 mm left).
+  sensor_msgs::PointCloud2ConstIterator<float> s(*cloud, "sx");
+  EXPECT_NEAR(s[0], -0.030 + 0.01156, 0.01);
+  EXPECT_NEAR(s[1], 0.025 - 0.05524, 0.01);
+  EXPECT_NEAR(s[2], 0.0865 + 0.00398, 0.01);
   // plane_700: a wall perpendicular to the robot 700 mm in front of the camera, which sits 30 mm
   // behind the edge: x = 0.670 m in platform_edge, seen from the floor up, across the window.
   double sum_x = 0.0, min_z = 1e9, max_z = -1e9, min_y = 1e9, max_y = -1e9;
@@ -42,6 +47,31 @@ TEST(DecoderNodelet, WallArrivesInPlatformEdge)
   EXPECT_GT(max_z, 0.17);
   EXPECT_LT(min_y, -0.15);
   EXPECT_GT(max_y, 0.15);
+}
+
+TEST(DecoderNodelet, RayEndsOnDemand)
+{
+  ros::NodeHandle nh;
+  const auto cloud = ros::topic::waitForMessage<sensor_msgs::PointCloud2>("ray_ends", nh, ros::Duration(60.0));
+  ASSERT_TRUE(cloud) << "no ray_ends";
+  EXPECT_EQ(cloud->header.frame_id, "platform_edge");
+  std::vector<std::string> names;
+  for (const auto& f : cloud->fields)
+    names.push_back(f.name);
+  EXPECT_EQ(names, (std::vector<std::string>{ "x", "y", "z", "sx", "sy", "sz", "state", "row", "col" }));
+  // plane_700: about 840 of the 1024 primitives are decoded, the rest come here; no ray ends
+  // beyond the wall (x = 0.670 m in platform_edge).
+  EXPECT_GT(cloud->width, 100u);
+  EXPECT_LT(cloud->width, 300u);
+  size_t beyond = 0, decoded = 0;
+  sensor_msgs::PointCloud2ConstIterator<uint8_t> state(*cloud, "state");
+  for (sensor_msgs::PointCloud2ConstIterator<float> it(*cloud, "x"); it != it.end(); ++it, ++state)
+  {
+    decoded += *state == 0;
+    beyond += std::isfinite(it[0]) && it[0] > 0.670 + 0.02;
+  }
+  EXPECT_EQ(decoded, 0u);
+  EXPECT_EQ(beyond, 0u);
 }
 
 TEST(DecoderNodelet, DebugAndDepthImagesOnDemand)
@@ -74,6 +104,8 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
       "points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++good; });
   ros::Subscriber no_tf = nh.subscribe<sensor_msgs::PointCloud2>(
       "no_tf/points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++bad; });
+  ros::Subscriber no_tf_rays = nh.subscribe<sensor_msgs::PointCloud2>(
+      "no_tf/ray_ends", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++bad; });
   ros::AsyncSpinner spinner(1);
   spinner.start();
   // Both decoders see the same images; wait until the one with a transform has published a few
@@ -82,7 +114,7 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
   while (good < 6 && ros::WallTime::now() < give_up)
     ros::WallDuration(0.05).sleep();
   EXPECT_GE(good.load(), 6) << "the decoder with a transform published too little";
-  EXPECT_EQ(bad.load(), 0) << "points published without a transform to their frame";
+  EXPECT_EQ(bad.load(), 0) << "points or ray ends published without a transform to their frame";
 }
 
 int main(int argc, char** argv)

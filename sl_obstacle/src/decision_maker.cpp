@@ -26,7 +26,10 @@ std::string DecisionParams::validate() const
       !(e = detail::inRange("speed_tolerance", speed_tolerance, 0.0, 0.5)).empty() ||
       !(e = detail::inRange("turn_speed", turn_speed, 1e-3, 2.0)).empty() ||
       !(e = detail::inRange("turn_angle", turn_angle, 1e-3, 2.0 * M_PI)).empty() ||
-      !(e = detail::inRange("settle_time", settle_time, 0.0, 10.0)).empty())
+      !(e = detail::inRange("settle_time", settle_time, 0.0, 10.0)).empty() ||
+      !(e = detail::inRange("deceleration", deceleration, 0.0, 10.0)).empty() ||
+      !(e = detail::inRange("backoff_distance", backoff_distance, 0.01, 2.0)).empty() ||
+      !(e = detail::inRange("backoff_speed", backoff_speed, 0.01, 0.5)).empty())
   {
     return e;
   }
@@ -46,6 +49,10 @@ std::string DecisionParams::validate() const
   {
     return detail::complaint("max_turns", "must be in [0, 1000]", max_turns);
   }
+  if (max_backoffs < 0 || max_backoffs > 100)
+  {
+    return detail::complaint("max_backoffs", "must be in [0, 100]", max_backoffs);
+  }
   return std::string();
 }
 
@@ -59,6 +66,7 @@ const char* toString(State state)
     case State::TURNING: return "TURNING";
     case State::SLOWING: return "SLOWING";
     case State::DRIVING: return "DRIVING";
+    case State::BACKING_OFF: return "BACKING_OFF";
   }
   return "?";
 }
@@ -86,6 +94,8 @@ const char* toString(Reason reason)
     case Reason::NEARER_OBSTACLE: return "NEARER_OBSTACLE";
     case Reason::EXTENDING: return "EXTENDING";
     case Reason::GOAL_RUNNING: return "GOAL_RUNNING";
+    case Reason::BACKING_OFF: return "BACKING_OFF";
+    case Reason::NO_ODOMETRY: return "NO_ODOMETRY";
   }
   return "?";
 }
@@ -156,6 +166,8 @@ void DecisionMaker::reset()
   phase_ = Phase::NONE;
   turns_done_ = 0;
   turn_dir_ = 1;
+  backoffs_done_ = 0;
+  backoff_sent_ = false;
 }
 
 void DecisionMaker::onFrame(const FrameSummary& frame)
@@ -194,8 +206,15 @@ void DecisionMaker::setText(const char* format, ...)
 double DecisionMaker::speedForFree(double free) const
 {
   const double span = params_.slow_distance - params_.safety_margin;
-  const double fraction = std::min(1.0, std::max(0.0, (free - params_.safety_margin) / span));
-  return params_.min_speed + (params_.max_speed - params_.min_speed) * fraction;
+  const double stop_distance = free - params_.safety_margin;
+  const double fraction = std::min(1.0, std::max(0.0, stop_distance / span));
+  const double ramp = params_.min_speed + (params_.max_speed - params_.min_speed) * fraction;
+  if (params_.deceleration <= 0.0)
+  {
+    return ramp;
+  }
+  // Stop within the free distance at the driver's deceleration: v <= sqrt(2 a d).
+  return std::min(ramp, std::sqrt(2.0 * params_.deceleration * std::max(0.0, stop_distance)));
 }
 
 double DecisionMaker::coverageFactor(double coverage) const
@@ -221,7 +240,7 @@ DecisionMaker::Assessment DecisionMaker::assess(const FrameSummary& f) const
     a.reason = Reason::OBSTACLE;
     return a;
   }
-  if (f.coverage < params_.min_coverage)
+  if (!f.from_map && f.coverage < params_.min_coverage)
   {
     a.kind = Assessment::LOW_COVERAGE;
     a.reason = Reason::LOW_COVERAGE;
@@ -235,7 +254,7 @@ DecisionMaker::Assessment DecisionMaker::assess(const FrameSummary& f) const
     return a;
   }
   const double by_distance = speedForFree(f.free_distance);
-  const double factor = coverageFactor(f.coverage);
+  const double factor = f.from_map ? 1.0 : coverageFactor(f.coverage);
   a.kind = Assessment::DRIVE;
   a.distance = distance;
   a.speed = params_.min_speed + (by_distance - params_.min_speed) * factor;
@@ -309,8 +328,10 @@ void DecisionMaker::startCycle(double now, Reason reason, const char* why)
   turns_done_ = 0;
   cycle_reason_ = reason;
   cycle_text_.assign(why);
-  // Toward the freer side; on a tie keep the previous direction.
-  const double difference = frame_.left_free - frame_.right_free;
+  // Toward the freer side (from a map: the side of the freest heading); on a tie keep the previous
+  // direction.
+  const double difference = frame_.from_map && frame_.best_turn != 0.0 ? frame_.best_turn
+                                                                       : frame_.left_free - frame_.right_free;
   if (difference > 0.01)
   {
     turn_dir_ = 1;
@@ -329,7 +350,7 @@ void DecisionMaker::startTurn(double now)
   turn_end_ = now + params_.turn_angle / params_.turn_speed;
 }
 
-void DecisionMaker::stepCycle(double now)
+void DecisionMaker::stepCycle(double now, const MotionState& motion)
 {
   const char* side = turn_dir_ > 0 ? "left" : "right";
   decision_.blocked = true;
@@ -357,6 +378,10 @@ void DecisionMaker::stepCycle(double now)
     look_after_ = now + params_.settle_time;
     stopHere(now);
   }
+  if ((phase_ == Phase::ALIGN || phase_ == Phase::BACKOFF) && stepBackoff(now, motion))
+  {
+    return;
+  }
   if (phase_ == Phase::LOOK)
   {
     if (frame_.stamp < look_after_)
@@ -369,6 +394,7 @@ void DecisionMaker::stepCycle(double now)
     if (a.kind == Assessment::DRIVE)
     {
       phase_ = Phase::NONE;
+      backoffs_done_ = 0;
       decision_.blocked = false;
       drive(a, frame_);
       return;
@@ -378,10 +404,20 @@ void DecisionMaker::stepCycle(double now)
     cycle_text_.assign(decision_.text);
     if (turns_done_ < params_.max_turns)
     {
+      if (frame_.from_map && frame_.best_turn != 0.0 &&
+          frame_.best_turn_free - params_.safety_margin >= params_.min_goal_distance)
+      {
+        turn_dir_ = frame_.best_turn > 0.0 ? 1 : -1;  // the map knows a free heading: turn toward it
+        side = turn_dir_ > 0 ? "left" : "right";
+      }
       startTurn(now);
       set(State::TURNING, Reason::TURNING, Command::TURN);
       decision_.angular_speed = turn_dir_ * params_.turn_speed;
       setText("turning %s, step %d of %d (%s)", side, turns_done_ + 1, params_.max_turns, cycle_text_.c_str());
+      return;
+    }
+    if (startBackoff(now) && stepBackoff(now, motion))
+    {
       return;
     }
     phase_ = Phase::GAVE_UP;
@@ -401,7 +437,82 @@ void DecisionMaker::stepCycle(double now)
     cycle_text_.assign(decision_.text);
   }
   set(State::STOPPED, Reason::NO_FREE_DIRECTION, Command::STOP);
-  setText("no free direction after %d turns (%s)", turns_done_, cycle_text_.c_str());
+  setText("no free direction after %d turns and %d back-offs (%s)", turns_done_, backoffs_done_,
+          cycle_text_.c_str());
+}
+
+bool DecisionMaker::startBackoff(double now)
+{
+  if (!frame_.from_map || backoffs_done_ >= params_.max_backoffs)
+  {
+    return false;
+  }
+  const double enough = params_.min_goal_distance;
+  if (frame_.reverse_free >= enough)
+  {
+    phase_ = Phase::BACKOFF;
+    backoff_sent_ = false;
+    return true;
+  }
+  if (frame_.best_reverse_free >= enough && frame_.best_reverse_turn != 0.0)
+  {
+    // Turn in place (sweeps nothing new) until the trail lies straight behind, then back off.
+    phase_ = Phase::ALIGN;
+    phase_start_ = now;
+    turn_dir_ = frame_.best_reverse_turn > 0.0 ? 1 : -1;
+    turn_end_ = now + std::abs(frame_.best_reverse_turn) / params_.turn_speed;
+    return true;
+  }
+  return false;
+}
+
+bool DecisionMaker::stepBackoff(double now, const MotionState& motion)
+{
+  decision_.blocked = true;
+  if (phase_ == Phase::ALIGN)
+  {
+    if (now < turn_end_)
+    {
+      set(State::TURNING, Reason::BACKING_OFF, Command::TURN);
+      decision_.angular_speed = turn_dir_ * params_.turn_speed;
+      setText("turning %s to back off along free cells (back-off %d of %d)", turn_dir_ > 0 ? "left" : "right",
+              backoffs_done_ + 1, params_.max_backoffs);
+      return true;
+    }
+    stopHere(now);
+    phase_ = Phase::BACKOFF;
+    backoff_sent_ = false;
+  }
+  if (!backoff_sent_)
+  {
+    if (frame_.reverse_free < params_.min_goal_distance)
+    {
+      return false;  // the aligned heading's reverse path is not free after all: give up
+    }
+    backoff_sent_ = true;
+    set(State::BACKING_OFF, Reason::BACKING_OFF, Command::DRIVE);
+    decision_.distance = -std::min(params_.backoff_distance, frame_.reverse_free);
+    decision_.speed = params_.backoff_speed;
+    setText("no free heading: backing off %.3f m along free cells (back-off %d of %d)", -decision_.distance,
+            backoffs_done_ + 1, params_.max_backoffs);
+    return true;
+  }
+  if (motion.goal_active)
+  {
+    set(State::BACKING_OFF, Reason::BACKING_OFF, Command::NONE);
+    setText("backing off: %.3f m to go (back-off %d of %d)", std::abs(motion.goal_remaining), backoffs_done_ + 1,
+            params_.max_backoffs);
+    return true;
+  }
+  // Back-off done: look again with a fresh set of turns.
+  ++backoffs_done_;
+  turns_done_ = 0;
+  stopHere(now);
+  phase_ = Phase::LOOK;
+  look_after_ = now + params_.settle_time;
+  set(State::BLOCKED, Reason::LOOKING, Command::STOP);
+  setText("back-off %d of %d done, waiting for a fresh cloud", backoffs_done_, params_.max_backoffs);
+  return true;
 }
 
 void DecisionMaker::stepRunningGoal(double now, const MotionState& motion)
@@ -455,7 +566,7 @@ void DecisionMaker::stepRunningGoal(double now, const MotionState& motion)
           nearest, frame_.coverage);
 }
 
-void DecisionMaker::stepIdle(double now)
+void DecisionMaker::stepIdle(double now, const MotionState& motion)
 {
   const Assessment a = assess(frame_);
   if (a.kind == Assessment::OBSTACLE || a.kind == Assessment::UNKNOWN_AHEAD)
@@ -467,7 +578,7 @@ void DecisionMaker::stepIdle(double now)
       char why[kTextCapacity];
       std::snprintf(why, sizeof(why), "%s", decision_.text.c_str());
       startCycle(now, a.reason, why);
-      stepCycle(now);
+      stepCycle(now, motion);
       return;
     }
     set(State::BLOCKED, a.reason, Command::STOP);
@@ -573,9 +684,21 @@ void DecisionMaker::decide(double now, const MotionState& motion)
       startCycle(now, Reason::DRIVER_HAZARD, why);
     }
   }
+  if (frame_.from_map && !motion.localized)
+  {
+    phase_ = Phase::NONE;
+    if (motion.goal_active)
+    {
+      stopHere(now);
+    }
+    set(State::STOPPED, Reason::NO_ODOMETRY, Command::STOP);
+    setText("robot pose unknown%s%s%s: the map cannot be used", motion.localization_detail[0] != '\0' ? " (" : "",
+            motion.localization_detail, motion.localization_detail[0] != '\0' ? ")" : "");
+    return;
+  }
   if (phase_ != Phase::NONE)
   {
-    stepCycle(now);
+    stepCycle(now, motion);
     return;
   }
   if (motion.goal_active)
@@ -583,6 +706,6 @@ void DecisionMaker::decide(double now, const MotionState& motion)
     stepRunningGoal(now, motion);
     return;
   }
-  stepIdle(now);
+  stepIdle(now, motion);
 }
 }  // namespace sl_obstacle

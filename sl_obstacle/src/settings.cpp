@@ -11,6 +11,10 @@ std::string Settings::validate() const
   {
     e = decision.validate();
   }
+  if (e.empty())
+  {
+    e = world.validate();
+  }
   if (!e.empty())
   {
     return e;

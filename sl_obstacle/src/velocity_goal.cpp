@@ -1,12 +1,13 @@
 #include "sl_obstacle/velocity_goal.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace sl_obstacle
 {
 void VelocityGoal::start(double distance, double speed, double now)
 {
-  active_ = distance > 0.0 && speed > 0.0;
+  active_ = distance != 0.0 && std::isfinite(distance) && speed > 0.0;
   distance_ = distance;
   speed_ = speed;
   travelled_ = 0.0;
@@ -27,9 +28,9 @@ bool VelocityGoal::update(double now, double max_step)
   const double dt = std::min(std::max(now - last_, 0.0), max_step);
   last_ = std::max(last_, now);
   travelled_ += speed_ * dt;
-  if (travelled_ >= distance_)
+  if (travelled_ >= std::abs(distance_))
   {
-    travelled_ = distance_;
+    travelled_ = std::abs(distance_);
     active_ = false;
     return true;
   }

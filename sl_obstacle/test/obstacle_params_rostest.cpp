@@ -8,6 +8,12 @@
 #include <ros/ros.h>
 #include <sys/wait.h>
 
+#include <array>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "cloud_conversion.h"
 #include "params.h"
 
 namespace sl_obstacle
@@ -101,6 +107,125 @@ TEST(ObstacleParams, BadValuesFailNamingTheParameter)
   s = ns(); ros::param::set(s + "/command_mode", std::string("fly")); expectRejected(s, "command_mode");
   s = ns(); ros::param::set(s + "/control_rate", 0.0); expectRejected(s, "control_rate");
   s = ns(); ros::param::set(s + "/target_frame", std::string("")); expectRejected(s, "target_frame");
+  s = ns(); ros::param::set(s + "/odom_frame", 3); expectRejected(s, "odom_frame");  // wrong type
+  s = ns(); ros::param::set(s + "/map_resolution", 0.5); expectRejected(s, "map_resolution");
+  s = ns(); ros::param::set(s + "/map_slices", 0); expectRejected(s, "map_slices");
+  s = ns(); ros::param::set(s + "/check_distance", 3.0); expectRejected(s, "check_distance");  // > map_size / 2
+  s = ns(); ros::param::set(s + "/deceleration", -1.0); expectRejected(s, "deceleration");
+  s = ns(); ros::param::set(s + "/use_map", 1.0); expectRejected(s, "use_map");  // wrong type
+}
+
+TEST(ObstacleParams, MapDefaultsEqualTheCoreDefaults)
+{
+  const NodeletParams p = loadParams(ros::NodeHandle("~defaults"));
+  const Settings core;
+  const WorldParams& w = p.settings.world;
+  EXPECT_EQ(p.odom_frame, "odom");
+  EXPECT_EQ(p.robot_frame, "base_link");
+  EXPECT_EQ(w.enabled, core.world.enabled);
+  EXPECT_DOUBLE_EQ(w.map.size, core.world.map.size);
+  EXPECT_DOUBLE_EQ(w.map.resolution, core.world.map.resolution);
+  EXPECT_EQ(w.map.slices, core.world.map.slices);
+  EXPECT_DOUBLE_EQ(w.map.decay, core.world.map.decay);
+  EXPECT_DOUBLE_EQ(w.map.z_min, p.settings.checker.volume.floor_margin);
+  EXPECT_DOUBLE_EQ(w.map.z_max, p.settings.checker.volume.height);
+  EXPECT_DOUBLE_EQ(w.footprint.radius, core.world.footprint.radius);
+  EXPECT_DOUBLE_EQ(w.footprint.lateral_margin, core.world.footprint.lateral_margin);
+  EXPECT_DOUBLE_EQ(w.start_free_radius, core.world.start_free_radius);
+  EXPECT_DOUBLE_EQ(w.check_distance, core.world.check_distance);
+  EXPECT_EQ(w.headings, core.world.headings);
+  EXPECT_DOUBLE_EQ(w.heading_step, p.settings.decision.turn_angle);
+  EXPECT_DOUBLE_EQ(p.settings.decision.deceleration, core.decision.deceleration);
+  EXPECT_EQ(p.settings.decision.max_backoffs, core.decision.max_backoffs);
+  EXPECT_DOUBLE_EQ(p.settings.decision.backoff_distance, core.decision.backoff_distance);
+  EXPECT_DOUBLE_EQ(p.settings.decision.backoff_speed, core.decision.backoff_speed);
+}
+
+/// A cloud of @p n points with FLOAT32 fields x, y, z, sx, sy, sz and, if @p state, UINT8 state.
+sensor_msgs::PointCloud2 rayCloud(const std::vector<std::array<float, 7>>& points, bool state = true,
+                                  bool start = true)
+{
+  sensor_msgs::PointCloud2 c;
+  const char* names[6] = { "x", "y", "z", "sx", "sy", "sz" };
+  uint32_t offset = 0;
+  for (int i = 0; i < (start ? 6 : 3); ++i, offset += 4)
+  {
+    sensor_msgs::PointField f;
+    f.name = names[i];
+    f.offset = offset;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    c.fields.push_back(f);
+  }
+  if (state)
+  {
+    sensor_msgs::PointField f;
+    f.name = "state";
+    f.offset = offset;
+    f.datatype = sensor_msgs::PointField::UINT8;
+    f.count = 1;
+    c.fields.push_back(f);
+    offset += 1;
+  }
+  c.point_step = offset;
+  c.width = static_cast<uint32_t>(points.size());
+  c.height = 1;
+  c.row_step = c.point_step * c.width;
+  c.data.resize(c.row_step);
+  for (std::size_t k = 0; k < points.size(); ++k)
+  {
+    uint8_t* p = c.data.data() + k * c.point_step;
+    for (int i = 0; i < (start ? 6 : 3); ++i)
+    {
+      std::memcpy(p + 4 * i, &points[k][static_cast<std::size_t>(i)], 4);
+    }
+    if (state)
+    {
+      p[offset - 1] = static_cast<uint8_t>(points[k][6]);
+    }
+  }
+  return c;
+}
+
+TEST(RayConversion, StatesBecomeMapRays)
+{
+  geometry_msgs::Transform shift;
+  shift.rotation.w = 1.0;
+  shift.translation.x = 1.0;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const sensor_msgs::PointCloud2 c = rayCloud({ { 1, 0, 0.1F, 0, 0, 0.09F, kRayFloor },
+                                                { 2, 0, 0.1F, 0.3F, 0, 0.09F, kRayDark },
+                                                { 0.5F, 0, 0.1F, 0.3F, 0, 0.09F, kRayLit },
+                                                { nan, nan, nan, nan, nan, nan, kRayUnseen },
+                                                { nan, 0, 0.1F, 0.3F, 0, 0.09F, kRayDark } });
+  std::vector<MapRay> rays;
+  ASSERT_EQ(appendRays(c, shift, true, rays), "");
+  ASSERT_EQ(rays.size(), 3U) << "unseen and NaN rays add nothing";
+  EXPECT_EQ(rays[0].kind, RayKind::Free);
+  EXPECT_EQ(rays[1].kind, RayKind::Free);
+  EXPECT_EQ(rays[2].kind, RayKind::Suspect);
+  EXPECT_FLOAT_EQ(rays[1].ex, 3.0F);
+  EXPECT_FLOAT_EQ(rays[1].sx, 1.3F);
+  // The decoded points: every one is a Hit ray.
+  rays.clear();
+  ASSERT_EQ(appendRays(rayCloud({ { 1, 0, 0.1F, 0, 0, 0.09F, 0 } }, false), shift, false, rays), "");
+  ASSERT_EQ(rays.size(), 1U);
+  EXPECT_EQ(rays[0].kind, RayKind::Hit);
+}
+
+TEST(RayConversion, MissingFieldsAreNamed)
+{
+  geometry_msgs::Transform identity;
+  identity.rotation.w = 1.0;
+  std::vector<MapRay> rays;
+  const std::string no_state = appendRays(rayCloud({ { 1, 0, 0, 0, 0, 0, 0 } }, false), identity, true, rays);
+  EXPECT_NE(no_state.find("state"), std::string::npos) << no_state;
+  const std::string no_start = appendRays(rayCloud({ { 1, 0, 0, 0, 0, 0, 0 } }, true, false), identity, true, rays);
+  EXPECT_NE(no_start.find("sx"), std::string::npos) << no_start;
+  sensor_msgs::PointCloud2 short_data = rayCloud({ { 1, 0, 0, 0, 0, 0, 2 }, { 1, 0, 0, 0, 0, 0, 2 } });
+  short_data.data.resize(5);
+  EXPECT_NE(appendRays(short_data, identity, true, rays).find("data size"), std::string::npos);
+  EXPECT_TRUE(rays.empty()) << "a refused cloud adds nothing";
 }
 
 TEST(ObstacleParams, ConfigValidationForReconfigure)

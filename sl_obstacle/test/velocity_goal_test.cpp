@@ -1,6 +1,8 @@
 // Tests of VelocityGoal, the open-loop distance goal of the cmd_vel command mode.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "sl_obstacle/velocity_goal.h"
 
 namespace sl_obstacle
@@ -56,7 +58,20 @@ TEST(VelocityGoal, DegenerateGoalsDoNotRun)
   EXPECT_FALSE(goal.active());
   goal.start(0.3, 0.0, 0.0);
   EXPECT_FALSE(goal.active());
-  goal.start(-0.3, 0.2, 0.0);
+  goal.start(std::nan(""), 0.2, 0.0);
+  EXPECT_FALSE(goal.active());
+}
+
+TEST(VelocityGoal, NegativeDistanceRunsBackwards)
+{
+  VelocityGoal goal;
+  goal.start(-0.3, 0.1, 0.0);
+  ASSERT_TRUE(goal.active());
+  EXPECT_DOUBLE_EQ(goal.velocity(), -0.1);
+  EXPECT_DOUBLE_EQ(goal.speed(), 0.1);
+  EXPECT_FALSE(goal.update(1.0, 2.0));
+  EXPECT_NEAR(goal.remaining(), -0.2, 1e-12);
+  EXPECT_TRUE(goal.update(3.5, 3.0));
   EXPECT_FALSE(goal.active());
 }
 }  // namespace

@@ -1,6 +1,8 @@
 // The decoder nodelet: image_raw in, PointCloud2 in the target frame out. ROS plumbing only; the
 // decoding is the sl_decoder core library.
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -23,6 +25,7 @@
 
 #include "sl_decoder/DecoderParamsConfig.h"
 #include "sl_decoder/decoder.h"
+#include "sl_decoder/ray_classifier.h"
 
 namespace sl_decoder
 {
@@ -38,7 +41,9 @@ struct NodeParams
   double tf_timeout = 0.05;
   bool organized = false;
   int queue_size = 2;
+  bool rays = false;  // classify the rays even when nobody subscribes ray_ends
   DecoderConfig decoder;
+  RayConfig ray;
 };
 
 template <typename T>
@@ -47,6 +52,30 @@ T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
   T value;
   pnh.param(name, value, fallback);
   return value;
+}
+
+/// The ray classifier's parameters (~rays, ~min_albedo, ...), checked by RayConfig::validate().
+void readRayParams(const ros::NodeHandle& pnh, NodeParams& p)
+{
+  p.rays = param(pnh, "rays", p.rays);
+  RayConfig& r = p.ray;
+  r.min_albedo = param(pnh, "min_albedo", r.min_albedo);
+  r.pattern_contrast_1m = param(pnh, "pattern_contrast_1m", r.pattern_contrast_1m);
+  r.light_fraction = param(pnh, "light_fraction", r.light_fraction);
+  r.noise_floor = param(pnh, "noise_floor", r.noise_floor);
+  r.max_range = param(pnh, "ray_max_range", r.max_range);
+  try
+  {
+    r.validate();
+    if (r.max_range <= p.decoder.min_depth || r.max_range > p.decoder.max_depth)
+      throw std::invalid_argument("max_range must be in (min_depth, max_depth] of the decoder");
+  }
+  catch (const std::invalid_argument& e)
+  {
+    const std::string what = e.what();
+    // The classifier's max_range is the parameter ~ray_max_range.
+    throw std::invalid_argument(what.rfind("max_range", 0) == 0 ? "~ray_" + what : "~" + what);
+  }
 }
 
 NodeParams readParams(const ros::NodeHandle& pnh)
@@ -94,13 +123,14 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   {
     throw std::invalid_argument(std::string("~") + e.what());
   }
+  readRayParams(pnh, p);
   return p;
 }
 }  // namespace
 
 /**
- * Subscribes `image_raw` (only while `points`, `depth/image_raw` or `debug_image` has a subscriber)
- * and publishes the decoded primitives.
+ * Subscribes `image_raw` (only while `points`, `ray_ends`, `depth/image_raw` or `debug_image` has a
+ * subscriber, or `~rays` is true) and publishes the decoded primitives and the per-ray outcomes.
  */
 class DecoderNodelet : public nodelet::Nodelet
 {
@@ -114,6 +144,7 @@ private:
       params_ = readParams(pnh);
       rig_ = sl_projector::loadRig(params_.calibration_file);
       decoder_.reset(new Decoder(rig_, params_.decoder));
+      rays_.reset(new RayClassifier(rig_, params_.decoder, params_.ray));
     }
     catch (const sl_projector::RigFileError& e)
     {
@@ -136,6 +167,7 @@ private:
     };
     std::lock_guard<std::mutex> lock(connect_mutex_);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("points", 2, connect, connect);
+    rays_pub_ = nh.advertise<sensor_msgs::PointCloud2>("ray_ends", 2, connect, connect);
     depth_pub_ = it_->advertise("depth/image_raw", 2, image_connect, image_connect);
     debug_pub_ = it_->advertise("debug_image", 1, image_connect, image_connect);
 
@@ -193,7 +225,7 @@ private:
   {
     std::lock_guard<std::mutex> lock(connect_mutex_);
     const bool wanted = points_pub_.getNumSubscribers() > 0 || depth_pub_.getNumSubscribers() > 0 ||
-                        debug_pub_.getNumSubscribers() > 0;
+                        debug_pub_.getNumSubscribers() > 0 || rays_pub_.getNumSubscribers() > 0 || params_.rays;
     if (wanted && !image_sub_)
     {
       image_sub_ = it_->subscribe("image_raw", static_cast<uint32_t>(params_.queue_size), &DecoderNodelet::onImage, this);
@@ -248,23 +280,38 @@ private:
       ++frames_;
     }
 
-    if (points_pub_.getNumSubscribers() > 0)
-      publishCloud(msg->header, result);
+    const bool rays = params_.rays || rays_pub_.getNumSubscribers() > 0;
+    if (rays)
+    {
+      rays_->classify(mono, result, outcomes_);
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      last_rays_ = rays_->lastCounts();
+    }
+    const bool points = points_pub_.getNumSubscribers() > 0;
+    Eigen::Isometry3d to_target;
+    if ((points || rays) && lookupTarget(msg->header, to_target))
+    {
+      if (points)
+        publishCloud(msg->header, result, to_target);
+      if (rays)
+        publishRays(msg->header, to_target);  // right after points, same frame and stamp
+    }
     if (depth_pub_.getNumSubscribers() > 0)
       publishDepth(msg->header, result);
     if (debug_pub_.getNumSubscribers() > 0)
       publishDebug(msg->header, mono, result);
   }
 
-  void publishCloud(const std_msgs::Header& image_header, const DecodeResult& result)
+  /// The camera -> target_frame transform at the image time; false (with a throttled warning) when
+  /// there is none: then nothing is published rather than wrong points.
+  bool lookupTarget(const std_msgs::Header& image_header, Eigen::Isometry3d& to_target)
   {
     const std::string source = params_.camera_frame.empty() ? image_header.frame_id : params_.camera_frame;
     if (source.empty())
     {
       NODELET_WARN_THROTTLE(5.0, "image has no frame_id and ~camera_frame is not set: no points published");
-      return;
+      return false;
     }
-    Eigen::Isometry3d to_target;
     try
     {
       to_target = tf2::transformToEigen(tf_buffer_->lookupTransform(params_.target_frame, source, image_header.stamp,
@@ -275,18 +322,26 @@ private:
       ++tf_failures_;
       NODELET_WARN_THROTTLE(5.0, "no transform %s -> %s at the image time, no points published: %s", source.c_str(),
                             params_.target_frame.c_str(), e.what());
-      return;
+      return false;
     }
+    return true;
+  }
 
+  void publishCloud(const std_msgs::Header& image_header, const DecodeResult& result,
+                    const Eigen::Isometry3d& to_target)
+  {
     sensor_msgs::PointCloud2 cloud;
     cloud.header.stamp = image_header.stamp;
     cloud.header.frame_id = params_.target_frame;
     sensor_msgs::PointCloud2Modifier modifier(cloud);
-    modifier.setPointCloud2Fields(8, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32,
-                                  "z", 1, sensor_msgs::PointField::FLOAT32, "confidence", 1,
-                                  sensor_msgs::PointField::FLOAT32, "row", 1, sensor_msgs::PointField::UINT16, "col",
-                                  1, sensor_msgs::PointField::UINT16, "u", 1, sensor_msgs::PointField::FLOAT32, "v", 1,
-                                  sensor_msgs::PointField::FLOAT32);
+    // sx, sy, sz: the projector centre, where the free part of every decoded ray starts.
+    using sensor_msgs::PointField;
+    modifier.setPointCloud2Fields(11, "x", 1, PointField::FLOAT32, "y", 1, PointField::FLOAT32, "z", 1,
+                                  PointField::FLOAT32, "confidence", 1, PointField::FLOAT32, "row", 1,
+                                  PointField::UINT16, "col", 1, PointField::UINT16, "u", 1, PointField::FLOAT32, "v", 1,
+                                  PointField::FLOAT32, "sx", 1, PointField::FLOAT32, "sy", 1, PointField::FLOAT32, "sz",
+                                  1, PointField::FLOAT32);
+    const Eigen::Vector3d centre = to_target * rig_.projectorCentre();
     const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
     if (params_.organized)
     {
@@ -297,11 +352,12 @@ private:
       cloud.row_step = cloud.width * cloud.point_step;
       cloud.is_dense = false;
       const float nan = std::numeric_limits<float>::quiet_NaN();
-      sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), cf(cloud, "confidence"), u(cloud, "u");
+      sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), cf(cloud, "confidence"), u(cloud, "u"), sx(cloud, "sx");
       sensor_msgs::PointCloud2Iterator<uint16_t> r(cloud, "row");
-      for (int i = 0; i < rows * cols; ++i, ++x, ++cf, ++u, ++r)
+      for (int i = 0; i < rows * cols; ++i, ++x, ++cf, ++u, ++r, ++sx)
       {
         x[0] = x[1] = x[2] = nan;
+        sx[0] = sx[1] = sx[2] = nan;
         cf[0] = 0.f;
         u[0] = u[1] = nan;
         r[0] = static_cast<uint16_t>(i / cols);
@@ -313,7 +369,7 @@ private:
       modifier.resize(static_cast<size_t>(result.valid));
       cloud.is_dense = true;
     }
-    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), cf(cloud, "confidence"), u(cloud, "u");
+    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), cf(cloud, "confidence"), u(cloud, "u"), sx(cloud, "sx");
     sensor_msgs::PointCloud2Iterator<uint16_t> r(cloud, "row");
     size_t k = 0;
     for (const Blob& b : result.blobs)
@@ -334,8 +390,63 @@ private:
       ri[1] = static_cast<uint16_t>(b.col);
       ui[0] = b.u;
       ui[1] = b.v;
+      sensor_msgs::PointCloud2Iterator<float> si = sx + static_cast<int>(index);
+      si[0] = static_cast<float>(centre.x());
+      si[1] = static_cast<float>(centre.y());
+      si[2] = static_cast<float>(centre.z());
     }
     points_pub_.publish(cloud);
+  }
+
+  /// ray_ends: one point per primitive that was not decoded (floor, dark, lit, unseen), see the README.
+  void publishRays(const std_msgs::Header& image_header, const Eigen::Isometry3d& to_target)
+  {
+    sensor_msgs::PointCloud2 cloud;
+    cloud.header.stamp = image_header.stamp;
+    cloud.header.frame_id = params_.target_frame;
+    // Explicit offsets keep the uint16 fields aligned: 6 floats, state at 24, row at 26, col at 28.
+    auto field = [&cloud](const char* name, uint32_t offset, uint8_t type) {
+      sensor_msgs::PointField f;
+      f.name = name;
+      f.offset = offset;
+      f.datatype = type;
+      f.count = 1;
+      cloud.fields.push_back(f);
+    };
+    const char* names[6] = { "x", "y", "z", "sx", "sy", "sz" };
+    for (uint32_t k = 0; k < 6; ++k)
+      field(names[k], 4 * k, sensor_msgs::PointField::FLOAT32);
+    field("state", 24, sensor_msgs::PointField::UINT8);
+    field("row", 26, sensor_msgs::PointField::UINT16);
+    field("col", 28, sensor_msgs::PointField::UINT16);
+    cloud.point_step = 32;
+    const size_t n = outcomes_.size();
+    const size_t count = n - static_cast<size_t>(rays_->lastCount(RayState::Decoded));
+    cloud.height = 1;
+    cloud.width = static_cast<uint32_t>(count);
+    cloud.row_step = cloud.width * cloud.point_step;
+    cloud.is_dense = false;  // unseen rays are NaN
+    cloud.data.assign(count * cloud.point_step, 0);
+    uint8_t* out = cloud.data.data();
+    const int cols = rig_.pattern.cols;
+    for (size_t i = 0; i < n; ++i)
+    {
+      const RayOutcome& o = outcomes_[i];
+      if (o.state == RayState::Decoded)
+        continue;
+      float xyz[6];
+      const Eigen::Vector3f end = (to_target * o.end.cast<double>()).cast<float>();
+      const Eigen::Vector3f start = (to_target * o.start.cast<double>()).cast<float>();
+      std::copy(end.data(), end.data() + 3, xyz);
+      std::copy(start.data(), start.data() + 3, xyz + 3);
+      std::memcpy(out, xyz, sizeof(xyz));
+      out[24] = static_cast<uint8_t>(o.state);
+      const uint16_t rc[2] = { static_cast<uint16_t>(i / static_cast<size_t>(cols)),
+                               static_cast<uint16_t>(i % static_cast<size_t>(cols)) };
+      std::memcpy(out + 26, rc, sizeof(rc));
+      out += cloud.point_step;
+    }
+    rays_pub_.publish(cloud);
   }
 
   void publishDepth(const std_msgs::Header& header, const DecodeResult& result)
@@ -396,6 +507,8 @@ private:
     status.add("processing time (ms)", last_ms_);
     status.add("rejected images", rejected_);
     status.add("tf failures", tf_failures_);
+    for (int k = 1; k < kRayStates; ++k)  // the ray outcomes of the last classified frame
+      status.add(std::string("rays ") + toString(static_cast<RayState>(k)), last_rays_[static_cast<size_t>(k)]);
   }
 
   NodeParams params_;
@@ -403,12 +516,14 @@ private:
   std::mutex decoder_mutex_;
   std::unique_ptr<Decoder> decoder_;
   DecodeResult result_;
+  std::unique_ptr<RayClassifier> rays_;
+  std::vector<RayOutcome> outcomes_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<image_transport::ImageTransport> it_;
   std::mutex connect_mutex_;
   image_transport::Subscriber image_sub_;
-  ros::Publisher points_pub_;
+  ros::Publisher points_pub_, rays_pub_;
   image_transport::Publisher depth_pub_, debug_pub_;
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<DecoderConfigMsg>> reconfigure_;
@@ -416,6 +531,7 @@ private:
   ros::WallTimer diagnostics_timer_;
   std::mutex stats_mutex_;
   int last_blobs_ = 0, last_decoded_ = 0, last_valid_ = 0;
+  std::array<int, kRayStates> last_rays_{};
   double last_ms_ = 0.0;
   long frames_ = 0, rejected_ = 0, tf_failures_ = 0;
   bool warned_conversion_ = false;

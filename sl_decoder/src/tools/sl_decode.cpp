@@ -10,20 +10,49 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "sl_decoder/decoder.h"
+#include "sl_decoder/ray_classifier.h"
 
 namespace
 {
 const char* kUsage =
-    "usage: sl_decode --calibration CAL.yaml [--csv OUT.csv] [--repeat N] [--depth-mode MODE] IMAGE.png\n"
+    "usage: sl_decode --calibration CAL.yaml [--csv OUT.csv] [--rays-csv RAYS.csv] [--repeat N] [--depth-mode MODE]\n"
+    "                 IMAGE.png\n"
     "  decodes IMAGE (mono8, or 16-bit/colour converted to mono8) with the rig in CAL.yaml and prints\n"
     "  decoded=<blobs identified> valid=<points written> time_ms_median=<median decode time over N runs>\n"
     "  --csv writes one line per valid primitive: u,v,row,col,x,y,z,confidence (px; m, camera optical frame)\n"
+    "  --rays-csv writes the outcome of every primitive's ray (default ray settings): row,col,state,depth\n"
+    "    (state decoded, floor, dark, lit or unseen; depth: camera z of the ray's end point, m; empty for unseen)\n"
     "  --depth-mode triangulation (default), rational or linear (needs the calibration's depth tables)\n";
+
+/// Writes one line per primitive: row,col,state,depth. @throws std::runtime_error naming the file.
+void writeRaysCsv(const std::string& path, const sl_projector::Rig& rig, const sl_decoder::DecoderConfig& config,
+                  const cv::Mat& mono, const sl_decoder::DecodeResult& result)
+{
+  std::ofstream out(path);
+  if (!out)
+    throw std::runtime_error("cannot write '" + path + "'");
+  sl_decoder::RayClassifier classifier(rig, config, sl_decoder::RayConfig());
+  std::vector<sl_decoder::RayOutcome> outcomes;
+  classifier.classify(mono, result, outcomes);
+  out << "row,col,state,depth\n" << std::setprecision(6);
+  const int cols = rig.pattern.cols;
+  for (size_t i = 0; i < outcomes.size(); ++i)
+  {
+    const sl_decoder::RayOutcome& o = outcomes[i];
+    out << i / static_cast<size_t>(cols) << "," << i % static_cast<size_t>(cols) << "," << sl_decoder::toString(o.state)
+        << ",";
+    if (o.state != sl_decoder::RayState::Unseen)
+      out << o.depth;
+    out << "\n";
+  }
+  if (!out)
+    throw std::runtime_error("write to '" + path + "' failed");
+}
 }
 
 int main(int argc, char** argv)
 {
-  std::string calibration, csv, image_path, mode = "triangulation";
+  std::string calibration, csv, rays_csv, image_path, mode = "triangulation";
   int repeat = 1;
   try
   {
@@ -39,6 +68,8 @@ int main(int argc, char** argv)
         calibration = next();
       else if (a == "--csv")
         csv = next();
+      else if (a == "--rays-csv")
+        rays_csv = next();
       else if (a == "--repeat")
       {
         const std::string v = next();
@@ -121,6 +152,8 @@ int main(int argc, char** argv)
       if (!out)
         throw std::runtime_error("write to '" + csv + "' failed");
     }
+    if (!rays_csv.empty())
+      writeRaysCsv(rays_csv, rig, config, mono, result);
     std::cout << "decoded=" << result.identified << " valid=" << result.valid << " time_ms_median=" << std::fixed
               << std::setprecision(3) << median << "\n";
   }

@@ -30,6 +30,10 @@ struct DecisionParams
   double turn_angle = 0.5;           ///< angle of one turn step (rad)
   int max_turns = 12;                ///< turn steps before giving up; 0 disables turning
   double settle_time = 0.3;          ///< wait after stopping / turning before looking again (s)
+  double deceleration = 0.25;        ///< the driver's braking deceleration a: speed <= sqrt(2 a d) (m/s^2)
+  int max_backoffs = 3;              ///< back-offs along the trail before giving up (map only; 0: none)
+  double backoff_distance = 0.3;     ///< longest back-off (m)
+  double backoff_speed = 0.08;       ///< back-off speed (m/s)
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
   std::string validate() const;
@@ -43,7 +47,8 @@ enum class State : std::uint8_t
   BLOCKED = 2,
   TURNING = 3,
   SLOWING = 4,
-  DRIVING = 5
+  DRIVING = 5,
+  BACKING_OFF = 6
 };
 
 /// Why (values equal the ObstacleStatus REASON_* constants).
@@ -67,7 +72,9 @@ enum class Reason : std::uint8_t
   PARTIAL_COVERAGE = 15,
   NEARER_OBSTACLE = 16,
   EXTENDING = 17,
-  GOAL_RUNNING = 18
+  GOAL_RUNNING = 18,
+  BACKING_OFF = 19,
+  NO_ODOMETRY = 20
 };
 
 /// What the robot is told (values equal the ObstacleStatus COMMAND_* constants).
@@ -102,8 +109,15 @@ struct FrameSummary
   double nearest_obstacle = std::numeric_limits<double>::infinity();  ///< m
   double free_distance = 0.0;  ///< m, includes unknown space (see VolumeResult)
   double coverage = 0.0;       ///< 0..1
-  double left_free = 0.0;      ///< mean free distance left of centre (m)
-  double right_free = 0.0;     ///< mean free distance right of centre (m)
+  double left_free = 0.0;      ///< mean free distance left of centre (m); from a map: best heading to the left
+  double right_free = 0.0;     ///< mean free distance right of centre (m); from a map: best heading to the right
+  // Filled when the summary comes from the local map (WorldModel) at the robot's current pose.
+  bool from_map = false;           ///< free_distance is the map's known-free travel: no coverage gating
+  double reverse_free = 0.0;       ///< known-free travel straight back (m)
+  double best_turn = 0.0;          ///< relative heading with the longest known-free travel (rad)
+  double best_turn_free = 0.0;     ///< that travel (m)
+  double best_reverse_turn = 0.0;  ///< relative heading whose reverse path is free the farthest (rad)
+  double best_reverse_free = 0.0;  ///< that reverse travel (m)
 };
 
 /// Extracts the summary of @p result, captured at @p stamp.
@@ -117,6 +131,8 @@ struct MotionState
   bool goal_active = false;     ///< a forward goal is running
   double goal_remaining = 0.0;  ///< distance still to drive of that goal (m)
   double goal_speed = 0.0;      ///< its speed (m/s)
+  bool localized = true;        ///< the robot's current pose is known (needed by map decisions)
+  const char* localization_detail = "";  ///< why it is not (a string literal; shown in the reason)
 };
 
 /// One decision.
@@ -126,7 +142,7 @@ struct Decision
   Reason reason = Reason::NO_DATA;
   std::string text;              ///< human-readable reason with the numbers
   Command command = Command::STOP;
-  double distance = 0.0;         ///< DRIVE: goal distance (m)
+  double distance = 0.0;         ///< DRIVE: goal distance (m); negative: backwards (a back-off)
   double speed = 0.0;            ///< DRIVE: goal speed (m/s)
   double angular_speed = 0.0;    ///< TURN: rate (rad/s), positive = left
   bool blocked = false;          ///< the way ahead is blocked (BLOCKED, TURNING, no free direction)
@@ -178,7 +194,9 @@ private:
     SETTLE,   // blocked: stopped, waiting before the first turn
     TURN,     // turning
     LOOK,     // turn done: stopped, waiting for a fresh frame
-    GAVE_UP   // max_turns reached without a free direction
+    ALIGN,    // turning toward the heading whose reverse path is free, before a back-off
+    BACKOFF,  // driving backwards along known-free cells
+    GAVE_UP   // max_turns (and max_backoffs) reached without a free direction
   };
 
   struct Assessment
@@ -204,9 +222,11 @@ private:
   void drive(const Assessment& a, const FrameSummary& f);
   void startCycle(double now, Reason reason, const char* why);
   void startTurn(double now);
-  void stepCycle(double now);
+  void stepCycle(double now, const MotionState& motion);
+  bool startBackoff(double now);
+  bool stepBackoff(double now, const MotionState& motion);
   void stepRunningGoal(double now, const MotionState& motion);
-  void stepIdle(double now);
+  void stepIdle(double now, const MotionState& motion);
   void decide(double now, const MotionState& motion);
   void stopHere(double now);
 
@@ -228,6 +248,8 @@ private:
   double look_after_ = 0.0;
   int turns_done_ = 0;
   int turn_dir_ = 1;  // +1 left, -1 right
+  int backoffs_done_ = 0;
+  bool backoff_sent_ = false;
   Reason cycle_reason_ = Reason::OBSTACLE;
   std::string cycle_text_;
 };

@@ -7,6 +7,7 @@
 
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/volume_checker.h"
+#include "sl_obstacle/world_model.h"
 
 namespace sl_obstacle
 {
@@ -15,6 +16,7 @@ struct Settings
 {
   CheckerParams checker;    ///< working volume, coverage, noise rejection
   DecisionParams decision;  ///< margins, speeds, turning, staleness
+  WorldParams world;        ///< local map and path checks (its height band is the volume's)
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
   std::string validate() const;

@@ -3,15 +3,18 @@
 #ifndef SL_OBSTACLE_VELOCITY_GOAL_H
 #define SL_OBSTACLE_VELOCITY_GOAL_H
 
+#include <cmath>
+
 namespace sl_obstacle
 {
-/// Runs a forward distance goal as a constant velocity command, estimating the distance travelled by
+/// Runs a distance goal (forward, or backwards for a negative distance) as a constant velocity command, estimating the distance travelled by
 /// integrating the commanded speed (open loop: the real robot accelerates, so it travels less than
 /// estimated, which errs on the safe side).
 class VelocityGoal
 {
 public:
-  /// Starts (or replaces) a goal of @p distance metres at @p speed m/s at time @p now.
+  /// Starts (or replaces) a goal of @p distance metres (negative: backwards) at @p speed m/s (> 0) at
+  /// time @p now.
   void start(double distance, double speed, double now);
 
   /// Stops the goal (no velocity).
@@ -23,12 +26,14 @@ public:
 
   /// True while a goal runs.
   bool active() const { return active_; }
-  /// Distance still to go (m).
-  double remaining() const { return active_ ? distance_ - travelled_ : 0.0; }
-  /// Estimated distance travelled since start (m).
+  /// Distance still to go (m, signed like the goal).
+  double remaining() const { return active_ ? (distance_ < 0.0 ? -1.0 : 1.0) * (std::abs(distance_) - travelled_) : 0.0; }
+  /// Estimated distance travelled since start (m, unsigned).
   double travelled() const { return travelled_; }
-  /// Speed to command now (m/s; 0 when no goal runs).
+  /// Speed to command now (m/s, unsigned; 0 when no goal runs).
   double speed() const { return active_ ? speed_ : 0.0; }
+  /// Signed linear velocity to command now (m/s; negative backwards).
+  double velocity() const { return distance_ < 0.0 ? -speed() : speed(); }
 
 private:
   bool active_ = false;

@@ -1,5 +1,6 @@
 #include "cloud_conversion.h"
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -54,16 +55,59 @@ std::string findField(const sensor_msgs::PointCloud2& cloud, const char* name, b
   }
   return required ? std::string("no field ") + name : std::string();
 }
+
+/// Empty when the data buffer holds width x height points of point_step bytes.
+std::string checkLayout(const sensor_msgs::PointCloud2& cloud)
+{
+  const std::size_t width = cloud.width;
+  const std::size_t height = cloud.height;
+  if (cloud.is_bigendian)
+  {
+    return "big-endian clouds are not supported";
+  }
+  if (width * height > 0 && (cloud.point_step == 0 || cloud.row_step < width * cloud.point_step ||
+                             cloud.data.size() < (height - 1) * cloud.row_step + width * cloud.point_step))
+  {
+    return "data size does not match width, height, point_step and row_step";
+  }
+  return std::string();
+}
+
+std::string readTransform(const geometry_msgs::Transform& transform, tf2::Matrix3x3& r, tf2::Vector3& t)
+{
+  const tf2::Quaternion q(transform.rotation.x, transform.rotation.y, transform.rotation.z, transform.rotation.w);
+  if (!(q.length2() > 0.5))
+  {
+    return "transform has an invalid rotation";
+  }
+  r = tf2::Matrix3x3(q.normalized());
+  t = tf2::Vector3(transform.translation.x, transform.translation.y, transform.translation.z);
+  return std::string();
+}
+
+/// The uint8 field @p name: its offset, or -1 with a message.
+std::string findStateField(const sensor_msgs::PointCloud2& cloud, const char* name, int& offset)
+{
+  for (const sensor_msgs::PointField& f : cloud.fields)
+  {
+    if (f.name == name)
+    {
+      if (f.datatype != sensor_msgs::PointField::UINT8 || f.offset + 1 > cloud.point_step)
+      {
+        return std::string("field ") + name + " must be UINT8 inside point_step";
+      }
+      offset = static_cast<int>(f.offset);
+      return std::string();
+    }
+  }
+  return std::string("no field ") + name + " (a ray cloud of sl_decoder carries one)";
+}
 }  // namespace
 
 std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform,
                          std::vector<Point>& points)
 {
   points.clear();
-  if (cloud.is_bigendian)
-  {
-    return "big-endian clouds are not supported";
-  }
   FieldReader fx;
   FieldReader fy;
   FieldReader fz;
@@ -80,19 +124,12 @@ std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_m
   {
     return std::string();
   }
-  if (cloud.point_step == 0 || cloud.row_step < width * cloud.point_step ||
-      cloud.data.size() < (height - 1) * cloud.row_step + width * cloud.point_step)
+  tf2::Matrix3x3 r;
+  tf2::Vector3 t;
+  if (!(e = checkLayout(cloud)).empty() || !(e = readTransform(transform, r, t)).empty())
   {
-    return "data size does not match width, height, point_step and row_step";
+    return e;
   }
-
-  const tf2::Quaternion q(transform.rotation.x, transform.rotation.y, transform.rotation.z, transform.rotation.w);
-  if (!(q.length2() > 0.5))
-  {
-    return "transform has an invalid rotation";
-  }
-  const tf2::Matrix3x3 r(q.normalized());
-  const tf2::Vector3 t(transform.translation.x, transform.translation.y, transform.translation.z);
 
   points.resize(width * height);  // keeps the capacity reached by earlier clouds
   std::size_t k = 0;
@@ -109,6 +146,71 @@ std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_m
       p.y = static_cast<float>(out.y());
       p.z = static_cast<float>(out.z());
       p.confidence = fc.valid() ? static_cast<float>(fc.read(pt)) : 1.0F;
+    }
+  }
+  return std::string();
+}
+std::string appendRays(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform, bool ray_ends,
+                       std::vector<MapRay>& rays)
+{
+  const char* names[6] = { "x", "y", "z", "sx", "sy", "sz" };
+  FieldReader f[6];
+  std::string e;
+  for (int i = 0; i < 6; ++i)
+  {
+    if (!(e = findField(cloud, names[i], true, f[i])).empty())
+    {
+      return e;
+    }
+  }
+  int state_offset = -1;
+  if (ray_ends && !(e = findStateField(cloud, "state", state_offset)).empty())
+  {
+    return e;
+  }
+  tf2::Matrix3x3 r;
+  tf2::Vector3 t;
+  if (!(e = checkLayout(cloud)).empty() || !(e = readTransform(transform, r, t)).empty())
+  {
+    return e;
+  }
+  for (std::size_t row = 0; row < cloud.height; ++row)
+  {
+    const std::uint8_t* base = cloud.data.data() + row * cloud.row_step;
+    for (std::size_t col = 0; col < cloud.width; ++col)
+    {
+      const std::uint8_t* pt = base + col * cloud.point_step;
+      MapRay ray;
+      ray.kind = RayKind::Hit;
+      if (ray_ends)
+      {
+        const std::uint8_t state = pt[state_offset];
+        if (state == kRayFloor || state == kRayDark)
+        {
+          ray.kind = RayKind::Free;
+        }
+        else if (state == kRayLit)
+        {
+          ray.kind = RayKind::Suspect;
+        }
+        else
+        {
+          continue;  // unseen (or decoded, which the points cloud carries): nothing to add
+        }
+      }
+      const tf2::Vector3 end = r * tf2::Vector3(f[0].read(pt), f[1].read(pt), f[2].read(pt)) + t;
+      const tf2::Vector3 start = r * tf2::Vector3(f[3].read(pt), f[4].read(pt), f[5].read(pt)) + t;
+      if (!std::isfinite(end.x() + end.y() + end.z() + start.x() + start.y() + start.z()))
+      {
+        continue;
+      }
+      ray.sx = static_cast<float>(start.x());
+      ray.sy = static_cast<float>(start.y());
+      ray.sz = static_cast<float>(start.z());
+      ray.ex = static_cast<float>(end.x());
+      ray.ey = static_cast<float>(end.y());
+      ray.ez = static_cast<float>(end.z());
+      rays.push_back(ray);
     }
   }
   return std::string();

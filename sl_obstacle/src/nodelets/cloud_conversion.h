@@ -8,6 +8,7 @@
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include "sl_obstacle/local_map.h"
 #include "sl_obstacle/point.h"
 
 namespace sl_obstacle
@@ -18,6 +19,18 @@ namespace sl_obstacle
 /// @return empty on success, otherwise a description of what is wrong with the cloud.
 std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform,
                          std::vector<Point>& points);
+
+/// Ray states of sl_decoder's `ray_ends` cloud (field `state`, UINT8).
+constexpr std::uint8_t kRayDecoded = 0, kRayFloor = 1, kRayDark = 2, kRayLit = 3, kRayUnseen = 4;
+
+/// Appends the rays of one of the decoder's clouds to @p rays, transformed by @p transform (cloud
+/// frame -> map frame). Every point needs x, y, z (the ray's end) and sx, sy, sz (the start of its
+/// free part). The decoder's `points` (@p ray_ends false) become Hit rays; `ray_ends` (true) need
+/// a UINT8 `state`: floor and dark become Free rays, lit Suspect rays, unseen ones are skipped.
+/// Rays with NaN/inf coordinates are skipped. @return empty on success, else what is wrong (the
+/// cloud adds nothing then, or only the rays read before the error).
+std::string appendRays(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform, bool ray_ends,
+                       std::vector<MapRay>& rays);
 }  // namespace sl_obstacle
 
 #endif  // SL_OBSTACLE_NODELETS_CLOUD_CONVERSION_H

@@ -1,8 +1,10 @@
 // The sl_obstacle/obstacle nodelet: ROS wrapper around the core (VolumeChecker, DecisionMaker).
 //
-// Subscribes `points` (through a tf2 message filter into ~target_frame), publishes `obstacle_status`
-// and `markers`, commands the robot through create_driver's `drive_distance` action and/or `cmd_vel`.
-// All callbacks share one mutex; nothing blocks in onInit.
+// Subscribes `points` (through a tf2 message filter into ~target_frame) for the immediate stop
+// check and, with ~use_map, `ray_ends` (through a filter into ~odom_frame) and `hazards` for the
+// local map (WorldModel); decides at the robot's current odometry pose. Publishes `obstacle_status`,
+// `markers` and `local_map`, commands the robot through create_driver's `drive_distance` action
+// and/or `cmd_vel`. All callbacks share one mutex; nothing blocks in onInit.
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -24,6 +26,9 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <create_driver/DriveDistanceAction.h>
+#include <create_driver/Hazards.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <tf2/utils.h>
 
 #include "cloud_conversion.h"
 #include "params.h"
@@ -31,6 +36,7 @@
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/velocity_goal.h"
 #include "sl_obstacle/volume_checker.h"
+#include "sl_obstacle/world_model.h"
 
 namespace sl_obstacle
 {
@@ -48,6 +54,11 @@ private:
   void onCloud(const Cloud::ConstPtr& cloud);
   void processCloud(const Cloud::ConstPtr& cloud);
   void onFilterFailure(const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason);
+  void onRays(const Cloud::ConstPtr& cloud);
+  void onHazards(const create_driver::Hazards& msg);
+  /// Reads the robot's pose in the odom frame now; false (with localization_detail_) when unknown.
+  bool updatePose(const ros::Time& now);
+  void publishMap(const ros::Time& now);
   void onTimer(const ros::TimerEvent& event);
   void onReconfigure(ObstacleConfig& config, uint32_t level);
 
@@ -67,6 +78,14 @@ private:
   std::unique_ptr<DecisionMaker> decider_;
   VelocityGoal velocity_goal_;
   std::vector<Point> points_;
+  std::unique_ptr<WorldModel> world_;  // null without ~use_map
+  Cloud::ConstPtr last_points_;        // the latest decoded points, for the map's Hit rays
+  std::vector<MapRay> rays_;
+  Pose2D pose_;
+  bool localized_ = false;
+  const char* localization_detail_ = "no odometry yet";
+  bool bumped_ = false;
+  ros::Time map_published_;
   bool have_frame_ = false;
   ros::Time last_cloud_stamp_;
 
@@ -76,6 +95,11 @@ private:
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<message_filters::Subscriber<Cloud>> cloud_sub_;
   std::unique_ptr<tf2_ros::MessageFilter<Cloud>> tf_filter_;
+  std::unique_ptr<message_filters::Subscriber<Cloud>> rays_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<Cloud>> rays_filter_;
+  ros::Subscriber hazards_sub_;
+  ros::Publisher map_pub_;
+  nav_msgs::OccupancyGrid grid_;
   ros::Publisher status_pub_;
   ros::Publisher markers_pub_;
   ros::Publisher cmd_vel_pub_;
@@ -102,6 +126,8 @@ ObstacleNodelet::~ObstacleNodelet()
   timer_.stop();
   cloud_sub_.reset();
   tf_filter_.reset();
+  rays_sub_.reset();
+  rays_filter_.reset();
 }
 
 void ObstacleNodelet::onInit()
@@ -141,6 +167,18 @@ void ObstacleNodelet::onInit()
   tf_filter_->registerFailureCallback(
       [this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason) { onFilterFailure(cloud, reason); });
 
+  if (params_.settings.world.enabled)
+  {
+    world_ = std::make_unique<WorldModel>(params_.settings.world);
+    map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("local_map", 1);
+    hazards_sub_ = nh_.subscribe("hazards", 10, &ObstacleNodelet::onHazards, this);
+    rays_sub_ = std::make_unique<message_filters::Subscriber<Cloud>>(nh_, "ray_ends", 2);
+    rays_filter_ = std::make_unique<tf2_ros::MessageFilter<Cloud>>(*rays_sub_, *tf_buffer_, params_.odom_frame, 5, nh_);
+    rays_filter_->registerCallback(&ObstacleNodelet::onRays, this);
+    rays_filter_->registerFailureCallback(
+        [this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason) { onFilterFailure(cloud, reason); });
+  }
+
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ObstacleConfig>>(reconfigure_mutex_, pnh_);
   reconfigure_->setCallback([this](ObstacleConfig& config, uint32_t level) { onReconfigure(config, level); });
   reconfigure_ready_ = true;
@@ -161,7 +199,11 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
     config = config_;
     return;
   }
-  const std::string e = validateConfig(config);
+  std::string e = validateConfig(config);
+  if (e.empty() && config.use_map != config_.use_map)
+  {
+    e = "use_map is read at start-up only";
+  }
   if (!e.empty())
   {
     NODELET_ERROR("reconfigure refused, keeping the previous values: %s", e.c_str());
@@ -171,6 +213,11 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
   const Settings settings = toSettings(config);
   checker_->setParams(settings.checker);
   decider_->setParams(settings.decision);
+  if (world_ && changesWorld(config, config_))
+  {
+    world_ = std::make_unique<WorldModel>(settings.world);
+    NODELET_WARN("map parameters changed: the local map starts empty");
+  }
   status_.sector_free_distance.resize(static_cast<std::size_t>(settings.checker.sectors));
   config_ = config;
   params_.config = config;
@@ -230,12 +277,12 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   }
   have_frame_ = true;
   last_cloud_stamp_ = cloud->header.stamp;
+  last_points_ = cloud;
   const VolumeResult& result = checker_->analyze(points_);
   if (result.invalid_points > 0)
   {
     NODELET_WARN_THROTTLE(10.0, "cloud has %u points with NaN/inf coordinates (ignored)", result.invalid_points);
   }
-  decider_->onFrame(summarize(result, cloud->header.stamp.toSec()));
   decide(ros::Time::now());
   if (markers_pub_.getNumSubscribers() > 0)
   {
@@ -243,10 +290,104 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   }
 }
 
+void ObstacleNodelet::onRays(const Cloud::ConstPtr& cloud)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  geometry_msgs::Transform to_odom;
+  try
+  {
+    to_odom = tf_buffer_->lookupTransform(params_.odom_frame, cloud->header.frame_id, cloud->header.stamp).transform;
+  }
+  catch (const tf2::TransformException& e)
+  {
+    NODELET_WARN_THROTTLE(2.0, "dropping ray cloud: %s", e.what());
+    return;
+  }
+  rays_.clear();
+  std::string e = appendRays(*cloud, to_odom, true, rays_);
+  if (!e.empty())
+  {
+    NODELET_ERROR_THROTTLE(2.0, "dropping ray cloud in frame '%s': %s", cloud->header.frame_id.c_str(), e.c_str());
+    return;
+  }
+  // The decoded points of the same image carry the rays that reached a surface.
+  if (last_points_ && last_points_->header.stamp == cloud->header.stamp &&
+      last_points_->header.frame_id == cloud->header.frame_id &&
+      !(e = appendRays(*last_points_, to_odom, false, rays_)).empty())
+  {
+    NODELET_WARN_THROTTLE(10.0, "points cloud adds no rays to the map: %s", e.c_str());
+  }
+  world_->addRays(rays_, cloud->header.stamp.toSec());
+}
+
+void ObstacleNodelet::onHazards(const create_driver::Hazards& msg)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  const bool bump = msg.bump_left || msg.bump_right;
+  if (bump && !bumped_ && localized_)
+  {
+    world_->markBump(pose_, msg.bump_left, msg.bump_right, ros::Time::now().toSec());
+    NODELET_WARN("bumper (%s%s): marked in the local map", msg.bump_left ? "left" : "",
+                 msg.bump_right ? (msg.bump_left ? " and right" : "right") : "");
+  }
+  bumped_ = bump;
+}
+
+bool ObstacleNodelet::updatePose(const ros::Time& now)
+{
+  geometry_msgs::TransformStamped t;
+  try
+  {
+    t = tf_buffer_->lookupTransform(params_.odom_frame, params_.robot_frame, ros::Time(0));
+  }
+  catch (const tf2::TransformException&)
+  {
+    localization_detail_ = "no transform from ~odom_frame to ~robot_frame";
+    return localized_ = false;
+  }
+  if ((now - t.header.stamp).toSec() > params_.settings.decision.stale_timeout)
+  {
+    localization_detail_ = "odometry transform older than stale_timeout";
+    return localized_ = false;
+  }
+  pose_.x = t.transform.translation.x;
+  pose_.y = t.transform.translation.y;
+  pose_.yaw = tf2::getYaw(t.transform.rotation);
+  return localized_ = true;
+}
+
+void ObstacleNodelet::publishMap(const ros::Time& now)
+{
+  if (map_pub_.getNumSubscribers() == 0 || (now - map_published_).toSec() < 0.5)
+  {
+    return;
+  }
+  map_published_ = now;
+  int width = 0;
+  double x0 = 0.0;
+  double y0 = 0.0;
+  world_->map().toOccupancy(now.toSec(), grid_.data, x0, y0, width);
+  grid_.header.stamp = now;
+  grid_.header.frame_id = params_.odom_frame;
+  grid_.info.map_load_time = now;
+  grid_.info.resolution = static_cast<float>(params_.settings.world.map.resolution);
+  grid_.info.width = static_cast<uint32_t>(width);
+  grid_.info.height = width > 0 ? static_cast<uint32_t>(grid_.data.size() / static_cast<std::size_t>(width)) : 0U;
+  grid_.info.origin.position.x = x0;
+  grid_.info.origin.position.y = y0;
+  grid_.info.origin.orientation.w = 1.0;
+  map_pub_.publish(grid_);
+}
+
 void ObstacleNodelet::onTimer(const ros::TimerEvent& /*event*/)
 {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  decide(ros::Time::now());
+  const ros::Time now = ros::Time::now();
+  decide(now);
+  if (world_ && localized_)
+  {
+    publishMap(now);
+  }
 }
 
 MotionState ObstacleNodelet::motion() const
@@ -268,6 +409,8 @@ MotionState ObstacleNodelet::motion() const
     m.goal_remaining = velocity_goal_.remaining();
     m.goal_speed = velocity_goal_.speed();
   }
+  m.localized = localized_;
+  m.localization_detail = localization_detail_;
   return m;
 }
 
@@ -276,6 +419,17 @@ void ObstacleNodelet::decide(const ros::Time& now)
   if (params_.command_mode == CommandMode::CMD_VEL && velocity_goal_.update(now.toSec()))
   {
     decider_->onGoalEnded(GoalEnd::REACHED, now.toSec(), "open-loop goal done");
+  }
+  if (world_ && updatePose(now))
+  {
+    world_->updatePose(pose_, now.toSec());
+  }
+  if (have_frame_)
+  {
+    const FrameSummary cloud = summarize(checker_->result(), last_cloud_stamp_.toSec());
+    decider_->onFrame(world_ ? withMap(cloud, world_->summarize(pose_, now.toSec()),
+                                       3.0 * params_.settings.world.map.resolution)
+                               : cloud);
   }
   const Decision& d = decider_->step(now.toSec(), motion());
   execute(d, now);
@@ -289,7 +443,7 @@ void ObstacleNodelet::execute(const Decision& d, const ros::Time& now)
     case Command::NONE:
       if (params_.command_mode == CommandMode::CMD_VEL && velocity_goal_.active())
       {
-        publishTwist(velocity_goal_.speed(), 0.0);  // keeps the driver's watchdog fed
+        publishTwist(velocity_goal_.velocity(), 0.0);  // keeps the driver's watchdog fed
       }
       break;
     case Command::STOP:
@@ -312,7 +466,7 @@ void ObstacleNodelet::execute(const Decision& d, const ros::Time& now)
       else
       {
         velocity_goal_.start(d.distance, d.speed, now.toSec());
-        publishTwist(d.speed, 0.0);
+        publishTwist(velocity_goal_.velocity(), 0.0);
       }
       break;
     case Command::TURN:
@@ -442,6 +596,13 @@ void ObstacleNodelet::publishStatus(const Decision& d, const ros::Time& now)
   s.obstacle_points = r.obstacle_points;
   s.invalid_points = r.invalid_points;
   s.coverage = static_cast<float>(have_frame_ ? r.coverage : 0.0);
+  const FrameSummary& f = decider_->frame();
+  const bool mapped = world_ && f.from_map;
+  s.map_free_distance = mapped ? f.free_distance : 0.0;
+  s.map_obstacle_distance = mapped ? world_->last().obstacle : std::numeric_limits<double>::infinity();
+  s.map_known_fraction = static_cast<float>(mapped ? f.coverage : 0.0);
+  s.reverse_free_distance = mapped ? f.reverse_free : 0.0;
+  s.best_turn = mapped ? f.best_turn : 0.0;
   s.command = static_cast<uint8_t>(d.command);
   s.command_distance = d.distance;
   s.command_speed = d.speed;

@@ -95,7 +95,34 @@ Settings toSettings(const ObstacleConfig& c)
   d.turn_angle = c.turn_angle;
   d.max_turns = c.max_turns;
   d.settle_time = c.settle_time;
+  d.deceleration = c.deceleration;
+  d.max_backoffs = c.max_backoffs;
+  d.backoff_distance = c.backoff_distance;
+  d.backoff_speed = c.backoff_speed;
+  WorldParams& w = s.world;
+  w.enabled = c.use_map;
+  w.map.size = c.map_size;
+  w.map.resolution = c.map_resolution;
+  w.map.slices = c.map_slices;
+  w.map.decay = c.map_decay;
+  w.map.z_min = c.floor_margin;
+  w.map.z_max = c.height;
+  w.footprint.radius = c.robot_radius;
+  w.footprint.lateral_margin = c.lateral_margin;
+  w.start_free_radius = c.start_free_radius;
+  w.check_distance = c.check_distance;
+  w.heading_step = c.turn_angle;
+  w.headings = c.headings;
   return s;
+}
+
+bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b)
+{
+  return a.map_size != b.map_size || a.map_resolution != b.map_resolution || a.map_slices != b.map_slices ||
+         a.map_decay != b.map_decay || a.start_free_radius != b.start_free_radius ||
+         a.robot_radius != b.robot_radius || a.lateral_margin != b.lateral_margin ||
+         a.check_distance != b.check_distance || a.headings != b.headings || a.turn_angle != b.turn_angle ||
+         a.floor_margin != b.floor_margin || a.height != b.height;
 }
 
 std::string validateConfig(const ObstacleConfig& config)
@@ -136,14 +163,26 @@ std::string validateConfig(const ObstacleConfig& config)
   return toSettings(config).validate();
 }
 
+namespace
+{
+/// Reads a non-empty string parameter; a value of another type is an error, not the default.
+void readFrame(const ros::NodeHandle& pnh, const std::string& name, std::string& value)
+{
+  checkType(pnh, name, "str");
+  pnh.getParam(name, value);
+  if (value.empty())
+  {
+    fail(name + " must not be empty");
+  }
+}
+}  // namespace
+
 NodeletParams loadParams(const ros::NodeHandle& pnh)
 {
   NodeletParams p;
-  pnh.param("target_frame", p.target_frame, p.target_frame);
-  if (p.target_frame.empty())
-  {
-    fail("target_frame must not be empty");
-  }
+  readFrame(pnh, "target_frame", p.target_frame);
+  readFrame(pnh, "odom_frame", p.odom_frame);
+  readFrame(pnh, "robot_frame", p.robot_frame);
   std::string mode = "action";
   pnh.param("command_mode", mode, mode);
   if (mode == "action")

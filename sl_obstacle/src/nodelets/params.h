@@ -22,6 +22,8 @@ enum class CommandMode
 struct NodeletParams
 {
   std::string target_frame = "platform_edge";  ///< ~target_frame: frame of the working volume
+  std::string odom_frame = "odom";             ///< ~odom_frame: frame the local map is kept in
+  std::string robot_frame = "base_link";       ///< ~robot_frame: centre of the robot's disc
   CommandMode command_mode = CommandMode::ACTION;  ///< ~command_mode: "action" or "cmd_vel"
   double control_rate = 10.0;  ///< ~control_rate: decision steps per second without clouds (Hz)
   ObstacleConfig config;       ///< the reconfigurable parameters (same names as in Obstacle.cfg)
@@ -30,6 +32,10 @@ struct NodeletParams
 
 /// Converts the reconfigurable parameters into the core's settings (no validation).
 Settings toSettings(const ObstacleConfig& config);
+
+/// True if @p a and @p b differ in a value the local map depends on (geometry, decay, footprint,
+/// headings, the height band).
+bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b);
 
 /// Checks a reconfigurable configuration: every value inside its Obstacle.cfg range and the core's
 /// rules (Settings::validate). @return empty when valid, else "<name> ..." naming the parameter.

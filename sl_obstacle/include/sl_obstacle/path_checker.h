@@ -1,0 +1,81 @@
+/// @file path_checker.h
+/// @brief Swept-footprint checks of a disc robot on the LocalMap (doc/world_model.md, section 3).
+#ifndef SL_OBSTACLE_PATH_CHECKER_H
+#define SL_OBSTACLE_PATH_CHECKER_H
+
+#include <limits>
+
+#include "sl_obstacle/local_map.h"
+
+namespace sl_obstacle
+{
+/// The robot's footprint: a disc around base_link.
+struct FootprintParams
+{
+  /// Radius of the robot's disc (m); the iRobot Create's is 0.1675 m.
+  double radius = 0.1675;
+  /// Extra clearance on each side of the swept path (m).
+  double lateral_margin = 0.02;
+
+  /// Checks the values. @throws std::invalid_argument with a message that starts with the name of
+  /// the offending field ("radius must be in (0, 2] (got 0)").
+  void validate() const;
+
+  /// Radius of the disc that is swept: radius + lateral_margin (m).
+  double sweptRadius() const { return radius + lateral_margin; }
+};
+
+/// What a straight move would sweep.
+///
+/// A cell is swept when its centre comes within sweptRadius() of the moving disc centre. Its entry
+/// distance is the travel at which that first happens. Cells the disc covers at s = 0 (the robot's
+/// current disc, radius + lateral_margin) count as free: the robot is there, and turning in place
+/// sweeps nothing new.
+struct PathResult
+{
+  /// Largest s (m, <= max_distance) such that every cell swept over [0, s] is Free; i.e. the entry
+  /// distance of the first cell that is not free, or max_distance when there is none.
+  double free = 0.0;
+  /// Entry distance of the first Occupied cell (m); +inf if none within max_distance.
+  double obstacle = std::numeric_limits<double>::infinity();
+  /// Entry distance of the first Unknown cell (m); +inf if none within max_distance.
+  double unknown = std::numeric_limits<double>::infinity();
+  /// Share of the cells swept over (0, max_distance] that are known (free or occupied); 1 when no
+  /// cell is swept (max_distance 0).
+  double known_fraction = 1.0;
+  /// Number of cells swept over (0, max_distance].
+  int swept_cells = 0;
+};
+
+/// Sweeps the footprint along a straight line and reports free, obstacle and unknown distances.
+///
+/// Every candidate cell is visited once (row by row over the swept stadium), so the cost is the
+/// stadium's area in cells. max_distance 0 (rotation in place) sweeps nothing: free = 0, obstacle
+/// and unknown +inf, known_fraction 1: turning in place is always allowed.
+/// @param x, y       base_link (disc centre) in odom (m)
+/// @param yaw        heading in odom (rad)
+/// @param direction  +1 forward along yaw, -1 in reverse
+/// @param max_distance how far to look (m, >= 0)
+/// @param now        time of the map's clock (s), for the decay
+/// @throws std::invalid_argument for direction other than +-1, a non-finite pose or a negative or
+///         non-finite max_distance
+PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw,
+                         int direction, double max_distance, double now);
+
+/// Result of bestHeading().
+struct HeadingChoice
+{
+  double turn = 0.0;  ///< relative angle to turn (rad, positive to the left), k * step
+  PathResult path;    ///< the forward sweep along yaw + turn
+};
+
+/// The best forward heading among yaw + k * step, k = -n..n, by PathResult::free.
+///
+/// Headings whose free distance is within one map cell of the best count as equally good; among
+/// them the smallest |turn| wins, and of +k and -k the left (+k) one.
+/// @throws std::invalid_argument for n < 0, a non-finite step, or what sweepStraight() rejects
+HeadingChoice bestHeading(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw,
+                          double step, int n, double max_distance, double now);
+}  // namespace sl_obstacle
+
+#endif  // SL_OBSTACLE_PATH_CHECKER_H

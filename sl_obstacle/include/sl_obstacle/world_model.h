@@ -1,0 +1,109 @@
+/// @file world_model.h
+/// @brief The obstacle node's memory: a rolling LocalMap fed with the decoder's rays, the robot's
+/// trail, bumps, and what the map says about the paths open to the robot at its current pose
+/// (ROS-free).
+#ifndef SL_OBSTACLE_WORLD_MODEL_H
+#define SL_OBSTACLE_WORLD_MODEL_H
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/local_map.h"
+#include "sl_obstacle/path_checker.h"
+
+namespace sl_obstacle
+{
+/// @brief A planar pose: base_link in the map (odom) frame.
+struct Pose2D
+{
+  double x = 0.0;    ///< m
+  double y = 0.0;    ///< m
+  double yaw = 0.0;  ///< rad, counter-clockwise from +x
+};
+
+/// @brief Parameters of the world model.
+struct WorldParams
+{
+  bool enabled = true;              ///< false: decisions use the latest cloud only (the old behaviour)
+  MapParams map;                    ///< the grid
+  FootprintParams footprint;        ///< the robot's disc
+  double start_free_radius = 0.45;  ///< m around base_link at the first pose taken as free
+  double check_distance = 1.5;      ///< m, the farthest travel checked along a path
+  double heading_step = 0.5;        ///< rad between the candidate headings
+  int headings = 6;                 ///< candidate headings on each side of the current one
+  double bump_depth = 0.06;         ///< m in front of the bumper marked occupied after a bump
+
+  /// @return empty when valid, else a message starting with the offending parameter's name.
+  std::string validate() const;
+};
+
+/// @brief What the map says at the robot's current pose. Distances are travel of base_link, m.
+struct MapSummary
+{
+  double free = 0.0;              ///< straight ahead: known-free travel (see PathResult::free)
+  double obstacle = std::numeric_limits<double>::infinity();  ///< straight ahead: travel to an occupied cell
+  double unknown = std::numeric_limits<double>::infinity();   ///< straight ahead: travel to an unknown cell
+  double known_fraction = 0.0;    ///< straight ahead: share of the swept cells that are known
+  double reverse_free = 0.0;      ///< straight back: known-free travel
+  double best_turn = 0.0;         ///< rad: relative heading with the longest known-free travel
+  double best_turn_free = 0.0;    ///< its known-free travel
+  double left_free = 0.0;         ///< longest known-free travel among the headings to the left
+  double right_free = 0.0;        ///< ... and to the right
+  double best_reverse_turn = 0.0; ///< rad: relative heading whose reverse path is free the farthest
+  double best_reverse_free = 0.0; ///< its known-free reverse travel
+};
+
+/**
+ * @brief Keeps the local map and answers path questions on it.
+ *
+ * Every cloud is inserted with the robot's pose at the cloud's stamp; every decision is taken at the
+ * pose of now. The robot's footprint is free wherever the robot has been (its trail), and the first
+ * pose's surroundings (start_free_radius) are taken as free: no camera on the robot can see the ring
+ * just around its own body. Turning in place sweeps no new space, so it is always allowed.
+ */
+class WorldModel
+{
+public:
+  /// @throws std::invalid_argument for invalid parameters.
+  explicit WorldModel(const WorldParams& params = WorldParams());
+
+  /// @brief Forgets everything (the next pose is a new start).
+  void reset();
+  /// @brief The parameters.
+  const WorldParams& params() const { return params_; }
+
+  /// @brief The robot is at @p robot at time @p now: recentres the window and marks its footprint free.
+  void updatePose(const Pose2D& robot, double now);
+  /// @brief Inserts the rays of one cloud (odom frame), taken at @p stamp.
+  void addRays(const std::vector<MapRay>& rays, double stamp);
+  /// @brief A bumper fired at @p robot: marks the space in front of the pressed side occupied.
+  void markBump(const Pose2D& robot, bool left, bool right, double now);
+  /// @brief The paths open to the robot at @p robot, at time @p now.
+  const MapSummary& summarize(const Pose2D& robot, double now);
+
+  /// @brief The last summarize() result.
+  const MapSummary& last() const { return summary_; }
+  /// @brief The map (for publishing).
+  const LocalMap& map() const { return map_; }
+  /// @brief True once a pose was given.
+  bool started() const { return started_; }
+
+private:
+  WorldParams params_;
+  LocalMap map_;
+  MapSummary summary_;
+  bool started_ = false;
+};
+/**
+ * @brief The decisions' view when a map is used: the latest cloud's summary @p cloud (its nearest
+ * obstacle still stops the robot at once) with the map's known-free travel, turn choices and
+ * reverse path at the current pose. Where the map stops at an occupied cell within @p tolerance of
+ * the cloud's nearest obstacle, both see the same thing and the cloud's exact distance is used
+ * (the map's is quantised by its cells).
+ */
+FrameSummary withMap(FrameSummary cloud, const MapSummary& map, double tolerance);
+}  // namespace sl_obstacle
+
+#endif  // SL_OBSTACLE_WORLD_MODEL_H

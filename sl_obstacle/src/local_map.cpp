@@ -1,0 +1,471 @@
+#include "sl_obstacle/local_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "validation.h"
+
+namespace sl_obstacle
+{
+namespace
+{
+constexpr std::uint8_t kFlagHit = 1;
+constexpr std::uint8_t kFlagFree = 2;
+constexpr std::uint8_t kFlagSuspect = 4;
+constexpr std::size_t kNoVoxel = std::numeric_limits<std::size_t>::max();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kMaxCellsPerSide = 4096;
+constexpr std::size_t kMaxVoxels = std::size_t(1) << 25;
+// Lattice indices are clamped to this so that window arithmetic never overflows an int.
+constexpr double kMaxIndex = 1e9;
+
+void fail(const std::string& message)
+{
+  if (!message.empty())
+  {
+    throw std::invalid_argument(message);
+  }
+}
+
+/// "<name> must be in (lo, hi] (got v)" unless lo < v <= hi.
+std::string openClosed(const char* name, double v, double lo, double hi)
+{
+  if (std::isfinite(v) && v > lo && v <= hi)
+  {
+    return std::string();
+  }
+  std::ostringstream rule;
+  rule << "must be in (" << lo << ", " << hi << "]";
+  return detail::complaint(name, rule.str().c_str(), v);
+}
+
+/// Non-negative remainder.
+int wrap(int v, int n)
+{
+  const int r = v % n;
+  return r < 0 ? r + n : r;
+}
+
+/// Clips the parameter interval [t0, t1] of p0 + t * d to lo <= p <= hi. @return false if empty.
+bool clipSlab(double p0, double d, double lo, double hi, double& t0, double& t1)
+{
+  if (std::fabs(d) < 1e-12)
+  {
+    return p0 >= lo && p0 <= hi;
+  }
+  double ta = (lo - p0) / d;
+  double tb = (hi - p0) / d;
+  if (ta > tb)
+  {
+    std::swap(ta, tb);
+  }
+  t0 = std::max(t0, ta);
+  t1 = std::min(t1, tb);
+  return t0 <= t1;
+}
+}  // namespace
+
+void MapParams::validate() const
+{
+  fail(openClosed("map_size", size, 0.0, 100.0));
+  fail(openClosed("map_resolution", resolution, 0.005, 0.2));
+  const double cells = std::round(size / resolution);
+  if (cells < 2 || cells > kMaxCellsPerSide)
+  {
+    fail(detail::complaint("map_size", "must be 2 to 4096 cells of map_resolution", size));
+  }
+  if (slices < 1 || slices > 16)
+  {
+    fail(detail::complaint("map_slices", "must be in [1, 16]", slices));
+  }
+  if (static_cast<std::size_t>(cells * cells) * static_cast<std::size_t>(slices) > kMaxVoxels)
+  {
+    fail(detail::complaint("map_slices", "times the cells must not exceed 2^25 voxels", slices));
+  }
+  fail(detail::inRange("map_z_min", z_min, -10.0, 10.0));
+  fail(detail::inRange("map_z_max", z_max, -10.0, 10.0));
+  if (z_max <= z_min)
+  {
+    fail(detail::complaint("map_z_max", "must be above map_z_min", z_max));
+  }
+  fail(detail::positive("map_decay", decay));
+  fail(openClosed("map_clamp", clamp, 0.0, 100.0));
+  fail(openClosed("map_hit", hit, 0.0, clamp));
+  fail(openClosed("map_miss", miss, 0.0, clamp));
+  fail(detail::inRange("map_suspect", suspect, 0.0, clamp));
+  if (!(occupied_threshold > 0.0 && occupied_threshold < clamp))
+  {
+    fail(detail::complaint("map_occupied_threshold", "must be in (0, map_clamp)", occupied_threshold));
+  }
+  if (!(free_threshold < 0.0 && free_threshold > -clamp))
+  {
+    fail(detail::complaint("map_free_threshold", "must be in (-map_clamp, 0)", free_threshold));
+  }
+}
+
+LocalMap::LocalMap(const MapParams& p) : params_(p)
+{
+  params_.validate();
+  n_ = static_cast<int>(std::round(params_.size / params_.resolution));
+  slices_ = params_.slices;
+  inv_res_ = 1.0 / params_.resolution;
+  slice_height_ = (params_.z_max - params_.z_min) / slices_;
+  const std::size_t cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
+  const std::size_t voxels = cells * static_cast<std::size_t>(slices_);
+  logodds_.assign(voxels, 0.0F);
+  updated_.assign(cells, -kInf);
+  flags_.assign(voxels, 0);
+  touched_.assign(voxels, 0);
+  recenter(0.0, 0.0);
+}
+
+int LocalMap::cellIndex(double v) const
+{
+  const double i = std::floor(v * inv_res_);
+  return static_cast<int>(std::max(-kMaxIndex, std::min(kMaxIndex, i)));
+}
+
+std::size_t LocalMap::slot(int lx, int ly) const
+{
+  int rx = ring_x_ + lx;
+  int ry = ring_y_ + ly;
+  rx -= rx >= n_ ? n_ : 0;
+  ry -= ry >= n_ ? n_ : 0;
+  return static_cast<std::size_t>(ry) * static_cast<std::size_t>(n_) + static_cast<std::size_t>(rx);
+}
+
+int LocalMap::sliceOf(double z) const
+{
+  const int k = static_cast<int>((z - params_.z_min) / slice_height_);
+  return std::max(0, std::min(slices_ - 1, k));
+}
+
+void LocalMap::clear()
+{
+  std::fill(logodds_.begin(), logodds_.end(), 0.0F);
+  std::fill(updated_.begin(), updated_.end(), -kInf);
+}
+
+void LocalMap::clearColumn(int rx)
+{
+  for (int ry = 0; ry < n_; ++ry)
+  {
+    const std::size_t cell = static_cast<std::size_t>(ry) * n_ + rx;
+    std::fill_n(logodds_.begin() + cell * slices_, slices_, 0.0F);
+    updated_[cell] = -kInf;
+  }
+}
+
+void LocalMap::clearRow(int ry)
+{
+  const std::size_t first = static_cast<std::size_t>(ry) * n_;
+  std::fill_n(logodds_.begin() + first * slices_, static_cast<std::size_t>(n_) * slices_, 0.0F);
+  std::fill_n(updated_.begin() + first, n_, -kInf);
+}
+
+void LocalMap::recenter(double x, double y)
+{
+  if (!std::isfinite(x) || !std::isfinite(y))
+  {
+    return;
+  }
+  const int nx = cellIndex(x) - n_ / 2;
+  const int ny = cellIndex(y) - n_ / 2;
+  const long dx = static_cast<long>(nx) - ox_;
+  const long dy = static_cast<long>(ny) - oy_;
+  if (std::labs(dx) >= n_ || std::labs(dy) >= n_)
+  {
+    clear();
+  }
+  else
+  {
+    // The global columns (rows) that leave are the ring slots the entering ones reuse.
+    const int first_x = dx > 0 ? ox_ : ox_ + n_ + static_cast<int>(dx);
+    for (long i = 0; i < std::labs(dx); ++i)
+    {
+      clearColumn(wrap(first_x + static_cast<int>(i), n_));
+    }
+    const int first_y = dy > 0 ? oy_ : oy_ + n_ + static_cast<int>(dy);
+    for (long i = 0; i < std::labs(dy); ++i)
+    {
+      clearRow(wrap(first_y + static_cast<int>(i), n_));
+    }
+  }
+  ox_ = nx;
+  oy_ = ny;
+  ring_x_ = wrap(ox_, n_);
+  ring_y_ = wrap(oy_, n_);
+}
+
+void LocalMap::decayCell(std::size_t cell, double stamp)
+{
+  const double last = updated_[cell];
+  if (!(stamp > last))
+  {
+    return;
+  }
+  if (last > -kInf)
+  {
+    const float f = static_cast<float>(std::exp(-(stamp - last) / params_.decay));
+    float* l = &logodds_[cell * slices_];
+    for (int k = 0; k < slices_; ++k)
+    {
+      l[k] *= f;
+    }
+  }
+  updated_[cell] = stamp;
+}
+
+void LocalMap::touch(std::size_t v, std::uint8_t flag)
+{
+  if (flags_[v] == 0)
+  {
+    touched_[touched_count_++] = static_cast<std::uint32_t>(v);
+  }
+  flags_[v] |= flag;
+}
+
+void LocalMap::flagCrossed(std::size_t cell, double z0, double z1, std::size_t skip_voxel)
+{
+  const double lo = std::max(std::min(z0, z1), params_.z_min);
+  const double hi = std::min(std::max(z0, z1), params_.z_max);
+  if (lo > hi)
+  {
+    return;
+  }
+  const std::size_t base = cell * slices_;
+  for (int k = sliceOf(lo), last = sliceOf(hi); k <= last; ++k)
+  {
+    if (base + k != skip_voxel)
+    {
+      touch(base + k, kFlagFree);
+    }
+  }
+}
+
+void LocalMap::traverse(const MapRay& r)
+{
+  const double res = params_.resolution;
+  const double px = r.sx - ox_ * res;  // start in window coordinates
+  const double py = r.sy - oy_ * res;
+  const double dx = double(r.ex) - r.sx, dy = double(r.ey) - r.sy, dz = double(r.ez) - r.sz;
+  const double extent = n_ * res;
+
+  std::size_t end_voxel = kNoVoxel;
+  const long elx = static_cast<long>(cellIndex(r.ex)) - ox_;
+  const long ely = static_cast<long>(cellIndex(r.ey)) - oy_;
+  if (elx >= 0 && elx < n_ && ely >= 0 && ely < n_ && r.ez >= params_.z_min && r.ez <= params_.z_max)
+  {
+    end_voxel = slot(static_cast<int>(elx), static_cast<int>(ely)) * slices_ + sliceOf(r.ez);
+  }
+  if (r.kind != RayKind::Free && end_voxel != kNoVoxel)
+  {
+    touch(end_voxel, r.kind == RayKind::Hit ? kFlagHit : kFlagSuspect);
+  }
+  const std::size_t skip = r.kind == RayKind::Free ? kNoVoxel : end_voxel;
+
+  double t = 0.0, t1 = 1.0;
+  if (!clipSlab(r.sz, dz, params_.z_min, params_.z_max, t, t1) || !clipSlab(px, dx, 0.0, extent, t, t1) ||
+      !clipSlab(py, dy, 0.0, extent, t, t1))
+  {
+    return;
+  }
+  int ix = std::max(0, std::min(n_ - 1, static_cast<int>(std::floor((px + t * dx) * inv_res_))));
+  int iy = std::max(0, std::min(n_ - 1, static_cast<int>(std::floor((py + t * dy) * inv_res_))));
+  const int step_x = dx > 0 ? 1 : -1;
+  const int step_y = dy > 0 ? 1 : -1;
+  double next_x = dx > 0 ? ((ix + 1) * res - px) / dx : dx < 0 ? (ix * res - px) / dx : kInf;
+  double next_y = dy > 0 ? ((iy + 1) * res - py) / dy : dy < 0 ? (iy * res - py) / dy : kInf;
+  const double delta_x = dx != 0 ? res / std::fabs(dx) : kInf;
+  const double delta_y = dy != 0 ? res / std::fabs(dy) : kInf;
+  for (int guard = 0; guard <= 2 * n_ + 2; ++guard)
+  {
+    const double t_next = std::min(t1, std::min(next_x, next_y));
+    flagCrossed(slot(ix, iy), r.sz + t * dz, r.sz + t_next * dz, skip);
+    if (t_next >= t1)
+    {
+      break;
+    }
+    if (next_x <= next_y)
+    {
+      ix += step_x;
+      next_x += delta_x;
+    }
+    else
+    {
+      iy += step_y;
+      next_y += delta_y;
+    }
+    if (ix < 0 || ix >= n_ || iy < 0 || iy >= n_)
+    {
+      break;
+    }
+    t = t_next;
+  }
+}
+
+void LocalMap::applyBatch(double stamp)
+{
+  const float clamp = static_cast<float>(params_.clamp);
+  const float hit = static_cast<float>(params_.hit);
+  const float miss = static_cast<float>(params_.miss);
+  const float suspect = static_cast<float>(params_.suspect);
+  for (std::size_t i = 0; i < touched_count_; ++i)
+  {
+    const std::size_t v = touched_[i];
+    decayCell(v / slices_, stamp);
+    float& l = logodds_[v];
+    const std::uint8_t f = flags_[v];
+    if (f & kFlagHit)
+    {
+      l = std::min(l + hit, clamp);
+    }
+    else if (f & kFlagFree)
+    {
+      l = std::max(l - miss, -clamp);
+    }
+    else
+    {
+      l = std::min(l + suspect, clamp);
+    }
+    flags_[v] = 0;
+  }
+  touched_count_ = 0;
+}
+
+void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
+{
+  invalid_rays_ = 0;
+  if (!std::isfinite(stamp))
+  {
+    invalid_rays_ = rays.size();
+    return;
+  }
+  for (const MapRay& r : rays)
+  {
+    if (!std::isfinite(r.sx) || !std::isfinite(r.sy) || !std::isfinite(r.sz) || !std::isfinite(r.ex) ||
+        !std::isfinite(r.ey) || !std::isfinite(r.ez))
+    {
+      ++invalid_rays_;
+      continue;
+    }
+    traverse(r);
+  }
+  applyBatch(stamp);
+}
+
+void LocalMap::setDisc(double x, double y, double radius, double stamp, float value)
+{
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(radius) || radius < 0.0 ||
+      !std::isfinite(stamp))
+  {
+    return;
+  }
+  const double res = params_.resolution;
+  const int y_lo = std::max(oy_, cellIndex(y - radius));
+  const int y_hi = std::min(oy_ + n_ - 1, cellIndex(y + radius));
+  const int x_lo = std::max(ox_, cellIndex(x - radius));
+  const int x_hi = std::min(ox_ + n_ - 1, cellIndex(x + radius));
+  const double r2 = radius * radius;
+  for (int iy = y_lo; iy <= y_hi; ++iy)
+  {
+    const double cy = (iy + 0.5) * res - y;
+    for (int ix = x_lo; ix <= x_hi; ++ix)
+    {
+      const double cx = (ix + 0.5) * res - x;
+      if (cx * cx + cy * cy > r2)
+      {
+        continue;
+      }
+      const std::size_t cell = slot(ix - ox_, iy - oy_);
+      std::fill_n(logodds_.begin() + cell * slices_, slices_, value);
+      updated_[cell] = std::max(updated_[cell], stamp);
+    }
+  }
+}
+
+void LocalMap::markFreeDisc(double x, double y, double radius, double stamp)
+{
+  setDisc(x, y, radius, stamp, -static_cast<float>(params_.clamp));
+}
+
+void LocalMap::markOccupiedDisc(double x, double y, double radius, double stamp)
+{
+  setDisc(x, y, radius, stamp, static_cast<float>(params_.clamp));
+}
+
+CellState LocalMap::slotState(std::size_t cell, double now, bool* suspect_out) const
+{
+  const float* l = &logodds_[cell * slices_];
+  float top = l[0];
+  for (int k = 1; k < slices_; ++k)
+  {
+    top = std::max(top, l[k]);
+  }
+  const double occ = params_.occupied_threshold;
+  // Decay only shrinks |log-odds|: a value between the thresholds stays unknown.
+  if (top <= occ && top >= params_.free_threshold && (suspect_out == nullptr || top < 0.5 * occ))
+  {
+    return CellState::Unknown;
+  }
+  const double dt = now - updated_[cell];
+  const double decayed = dt > 0.0 ? top * std::exp(-dt / params_.decay) : top;
+  if (decayed > occ)
+  {
+    return CellState::Occupied;
+  }
+  if (decayed < params_.free_threshold)
+  {
+    return CellState::Free;
+  }
+  if (suspect_out != nullptr)
+  {
+    *suspect_out = decayed >= 0.5 * occ;
+  }
+  return CellState::Unknown;
+}
+
+CellState LocalMap::cellState(int ix, int iy, double now) const
+{
+  const long lx = static_cast<long>(ix) - ox_;
+  const long ly = static_cast<long>(iy) - oy_;
+  if (lx < 0 || lx >= n_ || ly < 0 || ly >= n_)
+  {
+    return CellState::Unknown;
+  }
+  return slotState(slot(static_cast<int>(lx), static_cast<int>(ly)), now, nullptr);
+}
+
+CellState LocalMap::state(double x, double y, double now) const
+{
+  if (!std::isfinite(x) || !std::isfinite(y))
+  {
+    return CellState::Unknown;
+  }
+  return cellState(cellIndex(x), cellIndex(y), now);
+}
+
+void LocalMap::toOccupancy(double now, std::vector<std::int8_t>& data, double& origin_x, double& origin_y,
+                           int& width) const
+{
+  width = n_;
+  origin_x = ox_ * params_.resolution;
+  origin_y = oy_ * params_.resolution;
+  data.resize(static_cast<std::size_t>(n_) * n_);
+  std::size_t i = 0;
+  for (int ly = 0; ly < n_; ++ly)
+  {
+    for (int lx = 0; lx < n_; ++lx, ++i)
+    {
+      bool suspect = false;
+      const CellState s = slotState(slot(lx, ly), now, &suspect);
+      data[i] = s == CellState::Occupied ? 100 : s == CellState::Free ? 0 : suspect ? 50 : -1;
+    }
+  }
+}
+}  // namespace sl_obstacle

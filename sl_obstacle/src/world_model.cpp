@@ -1,0 +1,161 @@
+#include "sl_obstacle/world_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "validation.h"
+
+namespace sl_obstacle
+{
+std::string WorldParams::validate() const
+{
+  try
+  {
+    map.validate();
+    footprint.validate();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    return e.what();
+  }
+  std::string e;
+  if (!(e = detail::inRange("start_free_radius", start_free_radius, 0.0, 2.0)).empty() ||
+      !(e = detail::inRange("check_distance", check_distance, 0.1, 10.0)).empty() ||
+      !(e = detail::inRange("heading_step", heading_step, 0.01, 2.0 * M_PI)).empty() ||
+      !(e = detail::inRange("bump_depth", bump_depth, 0.0, 0.5)).empty())
+  {
+    return e;
+  }
+  if (headings < 0 || headings > 64)
+  {
+    return detail::complaint("headings", "must be in [0, 64]", headings);
+  }
+  if (check_distance > 0.5 * map.size - footprint.radius - footprint.lateral_margin)
+  {
+    return detail::complaint("check_distance", "must fit in half the map (map_size / 2 - robot_radius - lateral_margin)",
+                             check_distance);
+  }
+  return std::string();
+}
+
+namespace
+{
+WorldParams checked(const WorldParams& p)
+{
+  const std::string e = p.validate();
+  if (!e.empty())
+  {
+    throw std::invalid_argument(e);
+  }
+  return p;
+}
+}  // namespace
+
+WorldModel::WorldModel(const WorldParams& params) : params_(checked(params)), map_(params_.map)
+{
+}
+
+void WorldModel::reset()
+{
+  map_.clear();
+  summary_ = MapSummary();
+  started_ = false;
+}
+
+void WorldModel::updatePose(const Pose2D& robot, double now)
+{
+  map_.recenter(robot.x, robot.y);
+  if (!started_)
+  {
+    map_.markFreeDisc(robot.x, robot.y, params_.start_free_radius, now);
+    started_ = true;
+  }
+  // The robot's disc is free, out to the swept radius the path checks use (the lateral margin is
+  // there to keep a distance, not because something could stand in it while the robot is there).
+  map_.markFreeDisc(robot.x, robot.y, params_.footprint.sweptRadius() + 0.5 * params_.map.resolution, now);
+}
+
+void WorldModel::addRays(const std::vector<MapRay>& rays, double stamp)
+{
+  map_.insert(rays, stamp);
+}
+
+void WorldModel::markBump(const Pose2D& robot, bool left, bool right, double now)
+{
+  // A disc of bump_depth just beyond the bumper, straight ahead or 40 degrees to the pressed side.
+  const double r = params_.footprint.radius + 0.5 * params_.bump_depth;
+  const double side = left && !right ? 0.7 : (right && !left ? -0.7 : 0.0);
+  const double a = robot.yaw + side;
+  map_.markOccupiedDisc(robot.x + r * std::cos(a), robot.y + r * std::sin(a), 0.5 * params_.bump_depth + 0.02, now);
+}
+
+const MapSummary& WorldModel::summarize(const Pose2D& robot, double now)
+{
+  MapSummary& s = summary_;
+  const double reach = params_.check_distance;
+  const PathResult ahead = sweepStraight(map_, params_.footprint, robot.x, robot.y, robot.yaw, 1, reach, now);
+  s.free = ahead.free;
+  s.obstacle = ahead.obstacle;
+  s.unknown = ahead.unknown;
+  s.known_fraction = ahead.known_fraction;
+  s.reverse_free = sweepStraight(map_, params_.footprint, robot.x, robot.y, robot.yaw, -1, reach, now).free;
+  s.best_turn = 0.0;
+  s.best_turn_free = ahead.free;
+  s.left_free = s.right_free = 0.0;
+  s.best_reverse_turn = 0.0;
+  s.best_reverse_free = s.reverse_free;
+  for (int k = 1; k <= params_.headings; ++k)
+  {
+    for (const int sign : { 1, -1 })
+    {
+      const double turn = sign * k * params_.heading_step;
+      if (std::abs(turn) > M_PI + 1e-9)
+      {
+        continue;
+      }
+      const double yaw = robot.yaw + turn;
+      const double f = sweepStraight(map_, params_.footprint, robot.x, robot.y, yaw, 1, reach, now).free;
+      double& side = sign > 0 ? s.left_free : s.right_free;
+      side = std::max(side, f);
+      // Strictly longer wins, so ties keep the smaller turn.
+      if (f > s.best_turn_free + 1e-6)
+      {
+        s.best_turn_free = f;
+        s.best_turn = turn;
+      }
+      const double r = sweepStraight(map_, params_.footprint, robot.x, robot.y, yaw, -1, reach, now).free;
+      if (r > s.best_reverse_free + 1e-6)
+      {
+        s.best_reverse_free = r;
+        s.best_reverse_turn = turn;
+      }
+    }
+  }
+  return s;
+}
+FrameSummary withMap(FrameSummary f, const MapSummary& m, double tolerance)
+{
+  f.from_map = true;
+  const bool same_obstacle = m.obstacle <= m.unknown && std::abs(m.obstacle - f.nearest_obstacle) <= tolerance;
+  if (same_obstacle)
+  {
+    // The cloud sees the obstacle the map stops at: its distance is exact, the map's is quantised.
+    f.free_distance = std::min(f.nearest_obstacle, m.unknown);
+  }
+  else
+  {
+    f.nearest_obstacle = std::min(f.nearest_obstacle, m.obstacle);
+    f.free_distance = std::min(m.free, f.nearest_obstacle);
+  }
+  f.coverage = m.known_fraction;
+  f.left_free = m.left_free;
+  f.right_free = m.right_free;
+  f.reverse_free = m.reverse_free;
+  f.best_turn = m.best_turn;
+  f.best_turn_free = m.best_turn_free;
+  f.best_reverse_turn = m.best_reverse_turn;
+  f.best_reverse_free = m.best_reverse_free;
+  return f;
+}
+}  // namespace sl_obstacle

@@ -1,0 +1,380 @@
+// Tests of LocalMap: marking, clearing, decay, suspect ends, height slices, the rolling window,
+// clipping, bad input and parameter validation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sl_obstacle/local_map.h"
+
+namespace sl_obstacle
+{
+namespace
+{
+// Default band 0.015 .. 0.173 in two slices: slice 0 below 0.094, slice 1 above.
+constexpr float kLow = 0.05F;
+constexpr float kHigh = 0.13F;
+
+MapRay ray(float sx, float sy, float sz, float ex, float ey, float ez, RayKind kind)
+{
+  return MapRay{ sx, sy, sz, ex, ey, ez, kind };
+}
+
+/// Two horizontal rays (one per slice) from (sx, y) to (ex, y).
+std::vector<MapRay> bothSlices(float sx, float ex, float y, RayKind kind)
+{
+  return { ray(sx, y, kLow, ex, y, kLow, kind), ray(sx, y, kHigh, ex, y, kHigh, kind) };
+}
+
+/// The message of the std::invalid_argument thrown by @p f ("" if none).
+template <typename F>
+std::string thrownMessage(F f)
+{
+  try
+  {
+    f();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    return e.what();
+  }
+  return std::string();
+}
+
+int countCells(const LocalMap& map, double now, std::int8_t value)
+{
+  std::vector<std::int8_t> data;
+  double ox = 0.0, oy = 0.0;
+  int width = 0;
+  map.toOccupancy(now, data, ox, oy, width);
+  int n = 0;
+  for (const std::int8_t v : data)
+  {
+    n += v == value ? 1 : 0;
+  }
+  return n;
+}
+
+TEST(LocalMap, StartsUnknown)
+{
+  const LocalMap map{ MapParams() };
+  EXPECT_EQ(map.width(), 200);
+  EXPECT_EQ(map.state(0.0, 0.0, 0.0), CellState::Unknown);
+  EXPECT_EQ(map.state(1.9, -1.9, 100.0), CellState::Unknown);
+  EXPECT_EQ(countCells(map, 0.0, -1), 200 * 200);
+}
+
+TEST(LocalMap, HitMarksEndOccupiedAndPathFree)
+{
+  LocalMap map{ MapParams() };
+  map.insert(bothSlices(0.0F, 1.01F, 0.01F, RayKind::Hit), 0.0);
+  EXPECT_EQ(map.state(1.01, 0.01, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.5, 0.01, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(0.01, 0.01, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(1.05, 0.01, 0.0), CellState::Unknown);  // beyond the surface
+  EXPECT_EQ(map.state(0.5, 0.05, 0.0), CellState::Unknown);   // the next row
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+}
+
+TEST(LocalMap, OneSliceFreeIsNotFree)
+{
+  LocalMap map{ MapParams() };
+  map.insert({ ray(0.0F, 0.01F, kLow, 1.0F, 0.01F, kLow, RayKind::Free) }, 0.0);
+  EXPECT_EQ(map.state(0.5, 0.01, 0.0), CellState::Unknown);  // the upper slice was not seen
+  map.insert({ ray(0.0F, 0.01F, kHigh, 1.0F, 0.01F, kHigh, RayKind::Free) }, 0.0);
+  EXPECT_EQ(map.state(0.5, 0.01, 0.0), CellState::Free);
+}
+
+TEST(LocalMap, FloorAndAboveBandMarkNothing)
+{
+  LocalMap map{ MapParams() };
+  // Below the band (floor points) and above it: nothing is free, nothing occupied.
+  map.insert({ ray(0.0F, 0.01F, 0.01F, 1.0F, 0.01F, 0.0F, RayKind::Hit),
+               ray(0.0F, 0.01F, 0.2F, 1.0F, 0.01F, 0.25F, RayKind::Hit) },
+             0.0);
+  EXPECT_EQ(countCells(map, 0.0, -1), 200 * 200);
+}
+
+TEST(LocalMap, FreeRaysClearAnObstacleOverSeveralClouds)
+{
+  LocalMap map{ MapParams() };
+  map.insert(bothSlices(0.0F, 0.51F, 0.01F, RayKind::Hit), 0.0);
+  ASSERT_EQ(map.state(0.51, 0.01, 0.0), CellState::Occupied);
+  // 0.85 - 0.4 = 0.45: no longer occupied, not yet free.
+  map.insert(bothSlices(0.0F, 1.0F, 0.01F, RayKind::Free), 0.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Unknown);
+  map.insert(bothSlices(0.0F, 1.0F, 0.01F, RayKind::Free), 0.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Unknown);  // 0.05
+  map.insert(bothSlices(0.0F, 1.0F, 0.01F, RayKind::Free), 0.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Free);  // -0.35
+}
+
+TEST(LocalMap, OccupiedWinsOverFreeInOneCloud)
+{
+  LocalMap map{ MapParams() };
+  std::vector<MapRay> rays = bothSlices(0.0F, 0.51F, 0.01F, RayKind::Hit);
+  const std::vector<MapRay> through = bothSlices(0.0F, 1.0F, 0.01F, RayKind::Free);
+  rays.insert(rays.end(), through.begin(), through.end());
+  map.insert(rays, 0.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.8, 0.01, 0.0), CellState::Free);
+}
+
+TEST(LocalMap, ManyRaysThroughOneCellCountOncePerCloud)
+{
+  LocalMap map{ MapParams() };
+  std::vector<MapRay> rays;
+  for (int i = 0; i < 100; ++i)
+  {
+    const std::vector<MapRay> r = bothSlices(0.0F, 1.0F, 0.01F, RayKind::Free);
+    rays.insert(rays.end(), r.begin(), r.end());
+  }
+  map.insert(rays, 0.0);
+  ASSERT_EQ(map.state(0.5, 0.01, 0.0), CellState::Free);
+  // One cloud's -0.4 decays above -0.3 after 30 * ln(4/3) = 8.6 s; 100 separate updates would not.
+  EXPECT_EQ(map.state(0.5, 0.01, 10.0), CellState::Unknown);
+}
+
+TEST(LocalMap, DecaysToUnknown)
+{
+  LocalMap map{ MapParams() };
+  map.insert(bothSlices(0.0F, 1.01F, 0.01F, RayKind::Hit), 100.0);
+  // Occupied while 0.85 exp(-dt / 30) > 0.6 (dt < 10.4 s); free while 0.4 exp(-dt / 30) > 0.3 (8.6 s).
+  EXPECT_EQ(map.state(1.01, 0.01, 105.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.5, 0.01, 105.0), CellState::Free);
+  EXPECT_EQ(map.state(1.01, 0.01, 112.0), CellState::Unknown);
+  EXPECT_EQ(map.state(0.5, 0.01, 112.0), CellState::Unknown);
+  // The decay is applied before the next update: a second hit 20 s later gives
+  // 0.85 exp(-20 / 30) + 0.85 = 1.29, occupied for another 30 ln(1.29 / 0.6) = 23 s.
+  map.insert(bothSlices(0.0F, 1.01F, 0.01F, RayKind::Hit), 120.0);
+  EXPECT_EQ(map.state(1.01, 0.01, 140.0), CellState::Occupied);
+  EXPECT_EQ(map.state(1.01, 0.01, 146.0), CellState::Unknown);
+  // Reading earlier than the last update does not amplify.
+  EXPECT_EQ(map.state(1.01, 0.01, 0.0), CellState::Occupied);
+}
+
+TEST(LocalMap, SuspectNeedsTwoCloudsAndOwnFreePartDoesNotCancelIt)
+{
+  LocalMap map{ MapParams() };
+  const std::vector<MapRay> lit = { ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect) };
+  map.insert(lit, 0.0);
+  EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Unknown);  // 0.5 < 0.6
+  EXPECT_EQ(countCells(map, 0.0, 50), 1);                      // shown as suspect
+  map.insert(lit, 0.0);
+  EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Occupied);  // 1.0
+}
+
+TEST(LocalMap, SuspectCancelledByAFreeRayOfTheSameCloud)
+{
+  LocalMap map{ MapParams() };
+  const std::vector<MapRay> batch = { ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect),
+                                      ray(0.0F, 0.01F, kLow, 1.0F, 0.01F, kLow, RayKind::Free),
+                                      ray(0.0F, 0.01F, kHigh, 1.0F, 0.01F, kHigh, RayKind::Free) };
+  for (int i = 0; i < 4; ++i)
+  {
+    map.insert(batch, 0.0);
+  }
+  EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Free);
+  // The same lit end with the free ray in separate clouds: the suspect counts.
+  LocalMap split{ MapParams() };
+  for (int i = 0; i < 4; ++i)
+  {
+    split.insert({ batch[0] }, 0.0);
+  }
+  split.insert({ batch[1], batch[2] }, 0.0);
+  EXPECT_EQ(split.state(0.61, 0.01, 0.0), CellState::Occupied);  // min(2.0, 3.5) - 0.4
+}
+
+TEST(LocalMap, RayAboveALowObjectDoesNotClearIt)
+{
+  LocalMap map{ MapParams() };
+  // A 40 mm object at x = 0.51: its top is seen (decoded) in the low slice.
+  map.insert({ ray(0.0F, 0.01F, 0.09F, 0.51F, 0.01F, 0.03F, RayKind::Hit) }, 0.0);
+  ASSERT_EQ(map.state(0.51, 0.01, 0.0), CellState::Occupied);
+  // Rays of the sensor at 0.09 m rising to 0.17 m at 1 m pass above it (z ~ 0.13 there).
+  for (int i = 0; i < 10; ++i)
+  {
+    map.insert({ ray(0.0F, 0.01F, 0.09F, 1.0F, 0.01F, 0.17F, RayKind::Free) }, 0.0);
+  }
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.8, 0.01, 0.0), CellState::Unknown);  // only the upper slice is known there
+}
+
+TEST(LocalMap, DiagonalRayMarksEveryCellOnItsLine)
+{
+  LocalMap map{ MapParams() };
+  const float sx = -0.73F, sy = 0.37F, ex = 1.29F, ey = -0.91F;
+  map.insert({ ray(sx, sy, kLow, ex, ey, kLow, RayKind::Free),
+               ray(sx, sy, kHigh, ex, ey, kHigh, RayKind::Free) },
+             0.0);
+  int free = 0;
+  for (int i = 1; i < 1000; ++i)
+  {
+    const double t = i / 1000.0;
+    free += map.state(sx + t * (ex - sx), sy + t * (ey - sy), 0.0) == CellState::Free ? 1 : 0;
+  }
+  EXPECT_EQ(free, 999);
+  // The cells a line crosses: about |dx| + |dy| cells of 0.02 m, no more.
+  EXPECT_LE(countCells(map, 0.0, 0), static_cast<int>((2.02 + 1.28) / 0.02) + 2);
+  EXPECT_GE(countCells(map, 0.0, 0), static_cast<int>((2.02 + 1.28) / 0.02) - 2);
+}
+
+TEST(LocalMap, RaysAreClippedAtTheWindowEdge)
+{
+  LocalMap map{ MapParams() };  // window [-2, 2)^2
+  // Through the whole window, both ends outside; a Hit end outside marks nothing.
+  map.insert(bothSlices(-7.0F, 5.0F, 0.11F, RayKind::Hit), 0.0);
+  EXPECT_EQ(map.state(-1.99, 0.11, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(1.99, 0.11, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(0.0, 0.11, 0.0), CellState::Free);
+  EXPECT_EQ(countCells(map, 0.0, 100), 0);
+  EXPECT_EQ(countCells(map, 0.0, 0), 200);
+  // From far outside to an end inside.
+  map.insert(bothSlices(-30.0F, 1.01F, -0.31F, RayKind::Hit), 0.0);
+  EXPECT_EQ(map.state(1.01, -0.31, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(-1.99, -0.31, 0.0), CellState::Free);
+  // Entirely outside.
+  map.insert(bothSlices(-30.0F, 30.0F, 2.5F, RayKind::Hit), 0.0);
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+  EXPECT_EQ(countCells(map, 0.0, 0), 200 + 150);
+}
+
+TEST(LocalMap, NonFiniteInputIsIgnored)
+{
+  LocalMap map{ MapParams() };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<MapRay> rays = { ray(nan, 0.0F, kLow, 1.0F, 0.0F, kLow, RayKind::Hit),
+                               ray(0.0F, 0.0F, kLow, 1.0F, nan, kLow, RayKind::Free),
+                               ray(0.0F, 0.0F, kLow, 1.0F, 0.0F, nan, RayKind::Suspect),
+                               ray(0.0F, 0.0F, kLow, inf, 0.0F, kLow, RayKind::Free) };
+  const std::vector<MapRay> good = bothSlices(0.0F, 1.01F, 0.51F, RayKind::Hit);
+  rays.insert(rays.end(), good.begin(), good.end());
+  map.insert(rays, 0.0);
+  EXPECT_EQ(map.invalidRays(), 4U);
+  EXPECT_EQ(map.state(1.01, 0.51, 0.0), CellState::Occupied);
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+  map.recenter(std::nan(""), 0.0);
+  map.markFreeDisc(0.0, std::nan(""), 0.2, 0.0);
+  map.markOccupiedDisc(0.0, 0.0, std::nan(""), 0.0);
+  map.markOccupiedDisc(0.0, 0.0, -1.0, 0.0);
+  EXPECT_EQ(map.state(1.01, 0.51, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(std::nan(""), 0.0, 0.0), CellState::Unknown);
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+}
+
+TEST(LocalMap, DiscsMarkEverySlice)
+{
+  LocalMap map{ MapParams() };
+  map.markFreeDisc(0.0, 0.0, 0.2, 0.0);
+  EXPECT_EQ(map.state(0.0, 0.0, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(0.19, 0.0, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(0.13, 0.13, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(0.15, 0.15, 0.0), CellState::Unknown);  // centre 0.21 from (0, 0)
+  EXPECT_EQ(map.state(0.21, 0.0, 0.0), CellState::Unknown);
+  map.markOccupiedDisc(0.19, 0.0, 0.03, 1.0);  // a bump overrides certain free space
+  EXPECT_EQ(map.state(0.19, 0.0, 1.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.0, 0.0, 1.0), CellState::Free);
+  map.clear();
+  EXPECT_EQ(countCells(map, 1.0, -1), 200 * 200);
+}
+
+TEST(LocalMap, MovingTheWindowForgetsWhatLeavesAndKeepsWhatStays)
+{
+  LocalMap map{ MapParams() };  // window [-2, 2)^2
+  map.markOccupiedDisc(1.51, 0.51, 0.005, 0.0);
+  map.markOccupiedDisc(-1.91, 0.51, 0.005, 0.0);
+  map.markOccupiedDisc(0.51, -1.91, 0.005, 0.0);
+  ASSERT_EQ(countCells(map, 0.0, 100), 3);
+  map.recenter(1.0, 0.5);  // window [-1, 3) x [-1.5, 2.5)
+  EXPECT_EQ(map.state(1.51, 0.51, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(-1.91, 0.51, 0.0), CellState::Unknown);  // outside
+  EXPECT_EQ(map.state(2.09, 0.51, 0.0), CellState::Unknown);   // reuses the slot of (-1.91, 0.51)
+  EXPECT_EQ(map.state(0.51, 2.09, 0.0), CellState::Unknown);   // reuses the slot of (0.51, -1.91)
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+  std::vector<std::int8_t> data;
+  double ox = 0.0, oy = 0.0;
+  int width = 0;
+  map.toOccupancy(0.0, data, ox, oy, width);
+  EXPECT_NEAR(ox, -1.0, 1e-9);
+  EXPECT_NEAR(oy, -1.5, 1e-9);
+  EXPECT_EQ(width, 200);
+  const std::size_t row = (0.51 + 1.5) / 0.02, col = (1.51 + 1.0) / 0.02;  // 100, 125
+  EXPECT_EQ(data[row * 200 + col], 100);
+  map.recenter(0.0, 0.0);  // back: what left stays forgotten
+  EXPECT_EQ(map.state(-1.91, 0.51, 0.0), CellState::Unknown);
+  EXPECT_EQ(map.state(0.51, -1.91, 0.0), CellState::Unknown);
+  EXPECT_EQ(map.state(1.51, 0.51, 0.0), CellState::Occupied);
+}
+
+TEST(LocalMap, FarMovesForgetEverything)
+{
+  LocalMap map{ MapParams() };
+  map.markOccupiedDisc(0.51, 0.51, 0.005, 0.0);
+  map.recenter(100.0, -250.0);
+  EXPECT_EQ(countCells(map, 0.0, 100), 0);
+  map.markOccupiedDisc(100.51, -249.49, 0.005, 0.0);
+  EXPECT_EQ(map.state(100.51, -249.49, 0.0), CellState::Occupied);
+  map.recenter(0.0, 0.0);
+  EXPECT_EQ(map.state(0.51, 0.51, 0.0), CellState::Unknown);
+  EXPECT_EQ(countCells(map, 0.0, 100), 0);
+  // Small steps add up: 20 moves of 3 cells forget what is left behind, nothing else.
+  map.markOccupiedDisc(0.51, 0.51, 0.005, 0.0);
+  map.markOccupiedDisc(-1.99, 0.51, 0.005, 0.0);
+  for (int i = 1; i <= 20; ++i)
+  {
+    map.recenter(0.06 * i, 0.0);
+  }
+  EXPECT_EQ(map.state(0.51, 0.51, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(-1.99, 0.51, 0.0), CellState::Unknown);
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+}
+
+TEST(LocalMap, BadParametersThrowNamingTheField)
+{
+  const auto bad = [](auto change) {
+    MapParams p;
+    change(p);
+    return thrownMessage([&] { LocalMap map(p); });
+  };
+  EXPECT_EQ(thrownMessage([] { MapParams().validate(); }), "");
+  EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.3; }).rfind("map_resolution must be in (0.005, 0.2]", 0),
+            0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.005; }).rfind("map_resolution", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.size = std::nan(""); }).rfind("map_size", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.size = 0.01; }).rfind("map_size", 0), 0U);  // one cell
+  EXPECT_EQ(bad([](MapParams& p) { p.slices = 0; }).rfind("map_slices", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.z_max = 0.01; }).rfind("map_z_max", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.decay = 0.0; }).rfind("map_decay", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.hit = 0.0; }).rfind("map_hit", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.miss = -0.4; }).rfind("map_miss", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.suspect = 5.0; }).rfind("map_suspect", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.clamp = 0.0; }).rfind("map_clamp", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.occupied_threshold = 4.0; }).rfind("map_occupied_threshold", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.free_threshold = 0.1; }).rfind("map_free_threshold", 0), 0U);
+  EXPECT_NE(bad([](MapParams& p) { p.resolution = 0.3; }).find("got 0.3"), std::string::npos);
+}
+
+TEST(LocalMap, OtherGeometries)
+{
+  MapParams p;
+  p.size = 1.0;
+  p.resolution = 0.05;
+  p.slices = 4;
+  LocalMap map(p);
+  EXPECT_EQ(map.width(), 20);
+  // One rising ray crosses all four slices, but each cell only the slices of its own piece.
+  map.insert({ ray(-0.45F, 0.02F, 0.0F, 0.46F, 0.02F, 0.19F, RayKind::Free) }, 0.0);
+  EXPECT_EQ(countCells(map, 0.0, 0), 0);
+  for (float z = 0.02F; z < 0.17F; z += 0.01F)
+  {
+    map.insert({ ray(-0.45F, 0.02F, z, 0.46F, 0.02F, z, RayKind::Free) }, 0.0);
+  }
+  EXPECT_EQ(countCells(map, 0.0, 0), 19);  // the cells from -0.45 to 0.46
+}
+}  // namespace
+}  // namespace sl_obstacle

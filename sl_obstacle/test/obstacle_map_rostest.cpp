@@ -1,0 +1,158 @@
+// Rostest of obstacle_map.test: the map mode of the obstacle node against missing odometry and a
+// ray cloud without its state field. The test publishes the decoder's two clouds (a dark view: no
+// points, every ray free) and, later, odom -> base_link.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <mutex>
+#include <string>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "sl_obstacle/ObstacleStatus.h"
+
+namespace
+{
+/// A cloud in platform_edge with FLOAT32 x, y, z, sx, sy, sz (and UINT8 state if @p state) of @p n
+/// rays straight ahead from 0.25 m to 1.2 m at 0.08 m height.
+sensor_msgs::PointCloud2 cloud(const ros::Time& stamp, int n, bool state)
+{
+  sensor_msgs::PointCloud2 c;
+  c.header.stamp = stamp;
+  c.header.frame_id = "platform_edge";
+  const char* names[6] = { "x", "y", "z", "sx", "sy", "sz" };
+  for (uint32_t i = 0; i < 6; ++i)
+  {
+    sensor_msgs::PointField f;
+    f.name = names[i];
+    f.offset = 4 * i;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    c.fields.push_back(f);
+  }
+  c.point_step = 24;
+  if (state)
+  {
+    sensor_msgs::PointField f;
+    f.name = "state";
+    f.offset = 24;
+    f.datatype = sensor_msgs::PointField::UINT8;
+    f.count = 1;
+    c.fields.push_back(f);
+    c.point_step = 25;
+  }
+  c.height = 1;
+  c.width = static_cast<uint32_t>(n);
+  c.row_step = c.point_step * c.width;
+  c.data.assign(c.row_step, 0);
+  for (int k = 0; k < n; ++k)
+  {
+    const float y = -0.2F + 0.4F * static_cast<float>(k) / static_cast<float>(n > 1 ? n - 1 : 1);
+    const float v[6] = { 1.2F, 1.5F * y, 0.08F, 0.25F, 0.3F * y, 0.08F };
+    std::memcpy(c.data.data() + k * c.point_step, v, sizeof(v));
+    if (state)
+    {
+      c.data[k * c.point_step + 24] = 2;  // dark
+    }
+  }
+  return c;
+}
+
+class ObstacleMap : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("points", 2);
+    rays_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("ray_ends", 2);
+    twist_sub_ = nh_.subscribe("cmd_vel", 10, &ObstacleMap::onTwist, this);  // the driver's place
+    status_sub_ = nh_.subscribe("obstacle_status", 50, &ObstacleMap::onStatus, this);
+    log_sub_ = nh_.subscribe("/rosout_agg", 100, &ObstacleMap::onLog, this);
+  }
+
+  void onTwist(const geometry_msgs::Twist&) {}
+  void onStatus(const sl_obstacle::ObstacleStatus& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    last_ = msg;
+    ++statuses_;
+  }
+  void onLog(const rosgraph_msgs::Log& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (msg.msg.find("no field state") != std::string::npos)
+      state_error_ = true;
+  }
+
+  /// Publishes clouds (and odometry when @p odom) for @p seconds.
+  void run(double seconds, bool odom, bool with_state)
+  {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end)
+    {
+      const ros::Time now = ros::Time::now();
+      if (odom)
+      {
+        geometry_msgs::TransformStamped t;
+        t.header.stamp = now;
+        t.header.frame_id = "odom";
+        t.child_frame_id = "base_link";
+        t.transform.rotation.w = 1.0;
+        tf_.sendTransform(t);
+      }
+      points_pub_.publish(cloud(now, 0, false));
+      rays_pub_.publish(cloud(now, 64, with_state));
+      ros::WallDuration(0.1).sleep();
+    }
+  }
+
+  ros::NodeHandle nh_;
+  ros::Publisher points_pub_, rays_pub_;
+  ros::Subscriber twist_sub_, status_sub_, log_sub_;
+  tf2_ros::TransformBroadcaster tf_;
+  std::mutex mutex_;
+  sl_obstacle::ObstacleStatus last_;
+  int statuses_ = 0;
+  bool state_error_ = false;
+};
+
+TEST_F(ObstacleMap, StopsWithoutOdometryAndNamesAMissingField)
+{
+  using S = sl_obstacle::ObstacleStatus;
+  run(4.0, false, true);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ASSERT_GT(statuses_, 0);
+    EXPECT_EQ(last_.reason_code, S::REASON_NO_ODOMETRY) << last_.reason;
+    EXPECT_EQ(last_.state, S::STOPPED);
+    EXPECT_NE(last_.reason.find("odom"), std::string::npos) << last_.reason;
+  }
+  run(4.0, true, true);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    EXPECT_NE(last_.reason_code, S::REASON_NO_ODOMETRY) << last_.reason;
+    EXPECT_NE(last_.reason_code, S::REASON_STALE_DATA) << last_.reason;
+  }
+  run(3.0, true, false);
+  std::lock_guard<std::mutex> lock(mutex_);
+  EXPECT_TRUE(state_error_) << "a ray cloud without the state field must be refused by name";
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "obstacle_map_rostest");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}

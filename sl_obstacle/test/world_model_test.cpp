@@ -1,0 +1,351 @@
+// Tests of WorldModel (the local map fed with the sensor's ray fan, the trail, bumps) and of the
+// decisions taken on it: the blind zone after a turn is refused, open space is driven, a boxed-in
+// robot backs off along its trail, turning in place needs nothing, the speed obeys v <= sqrt(2 a d).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/world_model.h"
+
+namespace sl_obstacle
+{
+namespace
+{
+const double kInf = std::numeric_limits<double>::infinity();
+constexpr double kEdge = 0.1675;  // base_link -> front edge
+
+/// A wall: the vertical plane through (x, y) with outward normal along @p normal_yaw (facing the robot).
+struct Wall
+{
+  double x, y, normal_yaw;
+};
+
+/**
+ * The pattern's fan of 16 x 64 rays from a sensor on the robot at @p robot (camera 0.03 m behind the
+ * edge, 0.09 m up, +-14 degrees across, -7..+10 degrees in elevation), as the decoder reports them:
+ * rays that meet a wall before @p range are Hit rays from the sensor; the others are dark (Free)
+ * from 0.25 m on to @p range, or floor rays (Free from the sensor) where they meet the floor first.
+ */
+std::vector<MapRay> fan(const Pose2D& robot, const std::vector<Wall>& walls, double range = 1.2)
+{
+  const double c = std::cos(robot.yaw);
+  const double s = std::sin(robot.yaw);
+  const double ox = robot.x + (kEdge - 0.03) * c;
+  const double oy = robot.y + (kEdge - 0.03) * s;
+  const double oz = 0.09;
+  std::vector<MapRay> rays;
+  for (int row = 0; row < 16; ++row)
+  {
+    const double el = (-7.0 + 17.0 * row / 15.0) * M_PI / 180.0;
+    for (int col = 0; col < 64; ++col)
+    {
+      const double az = robot.yaw + (-14.0 + 28.0 * col / 63.0) * M_PI / 180.0;
+      const double dx = std::cos(el) * std::cos(az);
+      const double dy = std::cos(el) * std::sin(az);
+      const double dz = std::sin(el);
+      double t = range;
+      RayKind kind = RayKind::Free;
+      for (const Wall& w : walls)
+      {
+        const double nx = std::cos(w.normal_yaw);
+        const double ny = std::sin(w.normal_yaw);
+        const double den = dx * nx + dy * ny;
+        if (den < -1e-6)
+        {
+          const double tw = ((w.x - ox) * nx + (w.y - oy) * ny) / den;
+          if (tw > 0.0 && tw < t)
+          {
+            t = tw;
+            kind = RayKind::Hit;
+          }
+        }
+      }
+      bool floor = false;
+      if (dz < 0.0 && -oz / dz < t)
+      {
+        t = -oz / dz;
+        kind = RayKind::Free;
+        floor = true;
+      }
+      const double t0 = kind == RayKind::Hit || floor ? 0.0 : 0.25;
+      if (t <= t0)
+      {
+        continue;
+      }
+      rays.push_back(MapRay{ static_cast<float>(ox + t0 * dx), static_cast<float>(oy + t0 * dy),
+                             static_cast<float>(oz + t0 * dz), static_cast<float>(ox + t * dx),
+                             static_cast<float>(oy + t * dy), static_cast<float>(oz + t * dz), kind });
+    }
+  }
+  return rays;
+}
+
+/// Feeds clouds while the robot drives straight from @p from by @p distance in 2 cm steps.
+void driveAndLook(WorldModel& world, Pose2D& robot, double distance, const std::vector<Wall>& walls, double& now)
+{
+  for (double d = 0.0; d <= distance + 1e-9; d += 0.02)
+  {
+    Pose2D p = robot;
+    p.x += d * std::cos(robot.yaw);
+    p.y += d * std::sin(robot.yaw);
+    world.updatePose(p, now);
+    world.addRays(fan(p, walls), now);
+    now += 0.1;
+  }
+  robot.x += distance * std::cos(robot.yaw);
+  robot.y += distance * std::sin(robot.yaw);
+}
+
+/// Looks around in place, by +-k turn steps of 0.5 rad, with a cloud every 0.1 rad while turning
+/// (10 Hz at 0.5 rad/s).
+void scan(WorldModel& world, const Pose2D& robot, const std::vector<Wall>& walls, double& now, int k = 6)
+{
+  for (int i = -5 * k; i <= 5 * k; ++i)
+  {
+    Pose2D p = robot;
+    p.yaw += i * 0.1;
+    world.updatePose(p, now);
+    world.addRays(fan(p, walls), now);
+    now += 0.1;
+  }
+  world.updatePose(robot, now);
+}
+
+WorldParams params()
+{
+  WorldParams p;
+  p.map.decay = 600.0;  // no forgetting within a test
+  return p;
+}
+
+TEST(WorldModel, OpenSpaceIsDriven)
+{
+  WorldModel world(params());
+  Pose2D robot;
+  double now = 0.0;
+  driveAndLook(world, robot, 0.0, {}, now);
+  // Standing start: the narrow fan sees the middle of the path only; the sides near the robot are
+  // unknown until it looks around.
+  EXPECT_LT(world.summarize(robot, now).free, 0.40);
+  // A look around in place covers everything from about 0.4 m out; the start area the ring
+  // inside. The view is dark (empty) out to 1.2 m: the robot may drive, but not beyond that.
+  scan(world, robot, {}, now);
+  const MapSummary& s = world.summarize(robot, now);
+  EXPECT_GT(s.free, 0.9);
+  EXPECT_LT(s.free, 1.25);
+  driveAndLook(world, robot, 0.6, {}, now);
+  const MapSummary& t = world.summarize(robot, now);
+  EXPECT_GT(t.free, 0.7) << "0.6 m of driving through a dark (empty) view must open the path";
+  EXPECT_LT(t.free, 1.25) << "nothing beyond the sensor's range is known";
+  EXPECT_EQ(t.obstacle, kInf);
+  EXPECT_GT(t.reverse_free, 0.5) << "the trail behind is free";
+}
+
+TEST(WorldModel, WallAheadStopsAtItsDistance)
+{
+  WorldModel world(params());
+  Pose2D robot;
+  double now = 0.0;
+  const std::vector<Wall> walls = { { 1.2, 0.0, M_PI } };  // world x = 1.2, facing the robot
+  scan(world, robot, walls, now);
+  driveAndLook(world, robot, 0.5, walls, now);
+  const MapSummary& s = world.summarize(robot, now);
+  const double expected = 1.2 - robot.x - kEdge;  // travel until the disc touches
+  EXPECT_NEAR(s.obstacle, expected, 0.05);
+  EXPECT_LE(s.free, s.obstacle);
+  EXPECT_GT(s.free, expected - 0.06);
+}
+
+TEST(WorldModel, TurnIntoTheBlindZoneIsRefused)
+{
+  // The robot approaches a wall straight on and stops; a leg stands to its left, never in view.
+  WorldModel world(params());
+  Pose2D robot;
+  double now = 0.0;
+  const std::vector<Wall> walls = { { 1.0, 0.0, M_PI } };
+  scan(world, robot, walls, now, 1);  // a look to the sides of the path only
+  driveAndLook(world, robot, 0.43, walls, now);
+  Pose2D turned = robot;
+  turned.yaw = 60.0 * M_PI / 180.0;
+  world.updatePose(turned, now);
+  const MapSummary& s = world.summarize(turned, now);
+  // 0.4 m of clearance must be known-free before any goal: the near field there was never seen.
+  EXPECT_LT(s.free, 0.40 + 0.05) << "free " << s.free;
+  EXPECT_LT(s.unknown, 0.45);
+  // Turning in place sweeps no new space.
+  EXPECT_GE(sweepStraight(world.map(), world.params().footprint, turned.x, turned.y, turned.yaw, 1, 0.0, now).free,
+            0.0);
+}
+
+TEST(WorldModel, BoxedInBacksOffAlongTheTrail)
+{
+  WorldParams wp = params();
+  wp.start_free_radius = 0.2;  // nothing known behind the start
+  WorldModel world(wp);
+  Pose2D robot;
+  double now = 0.0;
+  // A dead end: walls ahead and on both sides, close. The robot came 0.35 m into it: turning round
+  // and driving out forward would need the trail plus the clearance, backing out needs the trail.
+  const std::vector<Wall> walls = { { 0.9, 0.0, M_PI }, { 0.0, 0.30, -M_PI / 2 }, { 0.0, -0.30, M_PI / 2 } };
+  scan(world, robot, walls, now, 1);
+  driveAndLook(world, robot, 0.35, walls, now);
+  const MapSummary& s = world.summarize(robot, now);
+  EXPECT_LT(s.best_turn_free, 0.40 + 0.05) << "no heading may be free beyond the clearance";
+  EXPECT_GT(s.reverse_free, 0.3) << "the trail behind is free";
+
+  DecisionParams dp;
+  dp.safety_margin = 0.40;
+  dp.slow_distance = 0.6;
+  dp.max_turns = 2;
+  dp.settle_time = 0.0;
+  DecisionMaker decider(dp);
+  FrameSummary cloud;
+  cloud.coverage = 1.0;
+  cloud.free_distance = s.free;
+  double t = 100.0;
+  bool backed_off = false;
+  for (int i = 0; i < 200 && !backed_off; ++i, t += 0.1)
+  {
+    cloud.stamp = t;
+    decider.onFrame(withMap(cloud, world.summarize(robot, now), 0.06));
+    const Decision& d = decider.step(t, MotionState());
+    if (d.command == Command::DRIVE)
+    {
+      ASSERT_LT(d.distance, 0.0) << "only a back-off is possible here: " << d.text;
+      EXPECT_EQ(d.state, State::BACKING_OFF);
+      EXPECT_LE(-d.distance, dp.backoff_distance + 1e-9);
+      backed_off = true;
+    }
+  }
+  EXPECT_TRUE(backed_off);
+}
+
+TEST(WorldModel, BumpIsMarkedInFront)
+{
+  WorldModel world(params());
+  Pose2D robot;
+  double now = 0.0;
+  scan(world, robot, {}, now);
+  driveAndLook(world, robot, 0.6, {}, now);
+  const double before = world.summarize(robot, now).obstacle;
+  world.markBump(robot, false, false, now);
+  const MapSummary& s = world.summarize(robot, now);
+  EXPECT_EQ(before, kInf);
+  EXPECT_LT(s.obstacle, 0.05);
+  EXPECT_LT(s.free, 0.05);
+}
+
+TEST(WorldModel, BadParametersNameTheParameter)
+{
+  WorldParams p;
+  p.start_free_radius = -1.0;
+  EXPECT_NE(p.validate().find("start_free_radius"), std::string::npos);
+  p = WorldParams();
+  p.check_distance = 5.0;  // beyond half of the 4 m map
+  EXPECT_NE(p.validate().find("check_distance"), std::string::npos);
+  p = WorldParams();
+  p.headings = -1;
+  EXPECT_NE(p.validate().find("headings"), std::string::npos);
+  p = WorldParams();
+  p.map.resolution = 0.0;
+  EXPECT_FALSE(p.validate().empty());
+  EXPECT_THROW(WorldModel{ p }, std::invalid_argument);
+}
+
+TEST(MapDecisions, LowCoverageDoesNotStopAMapDecision)
+{
+  DecisionParams dp;
+  dp.safety_margin = 0.4;
+  DecisionMaker decider(dp);
+  FrameSummary f;
+  f.stamp = 1.0;
+  f.from_map = true;
+  f.coverage = 0.05;  // little of the far box known, but the swept path is free for 0.9 m
+  f.free_distance = 0.9;
+  decider.onFrame(f);
+  const Decision& d = decider.step(1.0, MotionState());
+  ASSERT_EQ(d.command, Command::DRIVE) << d.text;
+  EXPECT_NEAR(d.distance, 0.5, 1e-9);
+}
+
+TEST(MapDecisions, SpeedObeysTheStoppingFormula)
+{
+  DecisionParams dp;
+  dp.safety_margin = 0.1;
+  dp.slow_distance = 0.15;  // the ramp alone would allow max_speed almost at once
+  dp.max_speed = 0.5;
+  dp.deceleration = 0.25;
+  dp.min_goal_distance = 0.005;
+  DecisionMaker decider(dp);
+  for (const double free : { 0.12, 0.15, 0.2, 0.3, 0.5 })
+  {
+    decider.reset();
+    FrameSummary f;
+    f.stamp = 1.0;
+    f.from_map = true;
+    f.free_distance = free;
+    decider.onFrame(f);
+    const Decision& d = decider.step(1.0, MotionState());
+    ASSERT_EQ(d.command, Command::DRIVE) << d.text;
+    const double bound = std::sqrt(2.0 * dp.deceleration * (free - dp.safety_margin));
+    EXPECT_LE(d.speed, bound + 1e-9) << "free " << free;
+    EXPECT_NEAR(d.speed, std::min(dp.max_speed, bound), 1e-9) << "free " << free;
+  }
+}
+
+TEST(MapDecisions, NoOdometryStops)
+{
+  DecisionMaker decider;
+  FrameSummary f;
+  f.stamp = 1.0;
+  f.from_map = true;
+  f.free_distance = 1.0;
+  decider.onFrame(f);
+  MotionState m;
+  m.localized = false;
+  m.localization_detail = "no transform";
+  const Decision& d = decider.step(1.0, m);
+  EXPECT_EQ(d.command, Command::STOP);
+  EXPECT_EQ(d.reason, Reason::NO_ODOMETRY);
+  EXPECT_NE(d.text.find("no transform"), std::string::npos);
+}
+
+TEST(MapDecisions, GivesUpAfterMaxBackoffs)
+{
+  DecisionParams dp;
+  dp.safety_margin = 0.4;
+  dp.max_turns = 1;
+  dp.max_backoffs = 2;
+  dp.settle_time = 0.0;
+  DecisionMaker decider(dp);
+  FrameSummary f;
+  f.from_map = true;
+  f.free_distance = 0.1;
+  f.nearest_obstacle = kInf;
+  f.reverse_free = 1.0;
+  int backoffs = 0;
+  bool gave_up = false;
+  double t = 1.0;
+  MotionState m;
+  for (int i = 0; i < 400 && !gave_up; ++i, t += 0.1)
+  {
+    f.stamp = t;
+    decider.onFrame(f);
+    const Decision& d = decider.step(t, m);
+    m.goal_active = false;
+    if (d.command == Command::DRIVE)
+    {
+      ASSERT_LT(d.distance, 0.0);
+      ++backoffs;
+      m.goal_active = true;  // runs for one step
+    }
+    gave_up = d.reason == Reason::NO_FREE_DIRECTION;
+  }
+  EXPECT_TRUE(gave_up);
+  EXPECT_EQ(backoffs, 2);
+}
+}  // namespace
+}  // namespace sl_obstacle

@@ -1,0 +1,218 @@
+// Exploration on one scene (explore.test): the whole system runs the simulated Create on its own
+// for ~duration seconds. Ground truth comes from the simulators and the scene file, not from the
+// system under test:
+//   - no contact (camera simulator) and no bumper (Create) in the whole run;
+//   - at least ~min_travel metres of path (where the scene leaves room to move);
+//   - every stop before an obstacle in the robot's path (the working window straight ahead of the
+//     front edge, |y| <= W/2, heights up to H) is at ~clearance +- ~tolerance, measured by casting
+//     rays through the scene from the true pose.
+// It prints the path length, the floor area the robot's disc covered, the nearest approach to any
+// object and the number of stops checked (also the 10-minute soak: `make soak`).
+// Private parameters: ~scene (file), ~duration (s), ~min_travel (m), ~clearance (m), ~tolerance (m),
+// ~robot_radius (m, base_link to the front edge), ~width, ~height (m, the working window).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <sl_camera/scene.h>
+
+#include "sim_watch.h"
+
+namespace
+{
+
+using sl_bringup_test::yawOf;
+
+double param(const std::string& name, double fallback)
+{
+  double v = fallback;
+  ros::param::get("~" + name, v);
+  return v;
+}
+
+class Explore : public sl_bringup_test::SimWatch
+{
+protected:
+  void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
+  {
+    if (previous)
+    {
+      const double step = std::hypot(now.position.x - previous->position.x, now.position.y - previous->position.y);
+      path_ += step;
+      const double dyaw = std::abs(std::remainder(yawOf(now) - yawOf(*previous), 2.0 * M_PI));
+      const ros::WallTime t = ros::WallTime::now();
+      // A stop before an obstacle is measured where the robot stands when it starts to turn away, or
+      // after 0.3 s without moving.
+      if (pending_stop_ && (dyaw > 1e-3 || (step <= 2e-4 && (t - last_motion_).toSec() > 0.3)))
+      {
+        pending_stop_ = false;
+        checkStop(*previous);
+      }
+      if (step > 2e-4 || dyaw > 1e-3)
+        last_motion_ = t;
+      if (step > 2e-4 && driving_)
+        drove_ = true;  // forward motion since the last stop
+    }
+    nearest_ = std::min(nearest_, clearanceOf(now));
+    coverFootprint(now);
+  }
+
+  /// Marks the 5 cm cells under the robot's disc as covered.
+  void coverFootprint(const geometry_msgs::Pose& base)
+  {
+    const int r = static_cast<int>(std::ceil(radius_ / kCell));
+    const int cx = static_cast<int>(std::floor(base.position.x / kCell));
+    const int cy = static_cast<int>(std::floor(base.position.y / kCell));
+    for (int dx = -r; dx <= r; ++dx)
+      for (int dy = -r; dy <= r; ++dy)
+        if (std::hypot((cx + dx + 0.5) * kCell - base.position.x, (cy + dy + 0.5) * kCell - base.position.y) <= radius_)
+          covered_.insert(static_cast<long>(cx + dx) * 100000L + (cy + dy));
+  }
+
+  void onStatus(const sl_obstacle::ObstacleStatus& msg) override
+  {
+    using S = sl_obstacle::ObstacleStatus;
+    ++statuses_;
+    states_seen_ |= 1U << msg.state;
+    driving_ = msg.state == S::DRIVING || msg.state == S::SLOWING;
+    if (msg.state == S::BLOCKED && msg.reason_code == S::REASON_OBSTACLE && drove_)
+    {
+      drove_ = false;
+      pending_stop_ = true;
+      stop_reason_ = msg.reason;
+    }
+  }
+
+  void checkStop(const geometry_msgs::Pose& pose)
+  {
+    const double d = windowDistance(pose);
+    if (d < clearance_ + 0.10)
+    {
+      stop_errors_.push_back(d - clearance_);
+      ROS_INFO("explore: stopped %.4f m before the obstacle in the path (clearance %.3f): %s", d, clearance_,
+               stop_reason_.c_str());
+    }
+  }
+
+  /// Distance from the front edge, straight ahead, to the scene inside the working window.
+  double windowDistance(const geometry_msgs::Pose& base) const
+  {
+    const double yaw = yawOf(base);
+    const Eigen::Vector3d ahead(std::cos(yaw), std::sin(yaw), 0.0);
+    const Eigen::Vector3d left(-std::sin(yaw), std::cos(yaw), 0.0);
+    const Eigen::Vector3d edge = Eigen::Vector3d(base.position.x, base.position.y, 0.0) + radius_ * ahead;
+    double best = std::numeric_limits<double>::infinity();
+    for (double y = -0.5 * width_; y <= 0.5 * width_ + 1e-9; y += 0.005)
+    {
+      for (double z = 0.02; z <= height_ + 1e-9; z += 0.03)
+      {
+        sl_camera::Ray ray;
+        ray.origin = edge + y * left + Eigen::Vector3d(0.0, 0.0, z);
+        ray.direction = ahead;
+        sl_camera::Hit hit;
+        if (sl_camera::intersectScene(scene_, ray, hit, 1e-6, 3.0) && !scene_.objects[hit.object].floor)
+          best = std::min(best, hit.t);
+      }
+    }
+    return best;
+  }
+
+  /// Smallest horizontal gap between the robot's disc and the scene (rays fanned out from the centre).
+  double clearanceOf(const geometry_msgs::Pose& base) const
+  {
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 72; ++k)
+    {
+      const double a = k * M_PI / 36.0;
+      for (double z = 0.02; z <= 0.10; z += 0.04)
+      {
+        sl_camera::Ray ray;
+        ray.origin = Eigen::Vector3d(base.position.x, base.position.y, z);
+        ray.direction = Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+        sl_camera::Hit hit;
+        if (sl_camera::intersectScene(scene_, ray, hit, 1e-6, 2.0) && !scene_.objects[hit.object].floor)
+          best = std::min(best, hit.t - radius_);
+      }
+    }
+    return best;
+  }
+
+  static constexpr double kCell = 0.05;
+  std::set<long> covered_;
+  sl_camera::Scene scene_;
+  double radius_ = 0.1675, width_ = 0.331, height_ = 0.173, clearance_ = 0.40;
+  double path_ = 0.0;
+  double nearest_ = std::numeric_limits<double>::infinity();
+  int statuses_ = 0;
+  unsigned states_seen_ = 0;
+  ros::WallTime last_motion_;
+  bool driving_ = false, drove_ = false, pending_stop_ = false;
+  std::string stop_reason_;
+  std::vector<double> stop_errors_;
+};
+
+TEST_F(Explore, MovesWhereSafeAndNeverTouches)
+{
+  std::string scene_file;
+  ASSERT_TRUE(ros::param::get("~scene", scene_file)) << "~scene is required";
+  const double duration = param("duration", 60.0);
+  const double min_travel = param("min_travel", 0.0);
+  const double tolerance = param("tolerance", 0.010);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scene_ = sl_camera::loadScene(scene_file);
+    radius_ = param("robot_radius", radius_);
+    width_ = param("width", width_);
+    height_ = param("height", height_);
+    clearance_ = param("clearance", clearance_);
+    last_motion_ = ros::WallTime::now();
+  }
+  // Wait for the system: a true pose and decisions.
+  const ros::WallTime start = ros::WallTime::now();
+  while (ros::ok() && (ros::WallTime::now() - start).toSec() < 60.0)
+  {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (have_pose_ && statuses_ > 0)
+        break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ASSERT_TRUE(have_pose_) << "no true_pose from create_sim";
+    ASSERT_GT(statuses_, 0) << "no obstacle_status";
+  }
+  const ros::WallTime run = ros::WallTime::now();
+  while (ros::ok() && (ros::WallTime::now() - run).toSec() < duration)
+  {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (contact_bits_ != 0 || bumped_)
+        break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  ROS_INFO("explore %s: path %.2f m in %.0f s, area covered %.2f m^2, nearest approach %.3f m, %zu stops "
+           "before obstacles, states 0x%x",
+           scene_.name.c_str(), path_, (ros::WallTime::now() - run).toSec(), covered_.size() * kCell * kCell, nearest_,
+           stop_errors_.size(), states_seen_);
+  EXPECT_EQ(contact_bits_, 0) << "the robot touched something";
+  EXPECT_FALSE(bumped_) << "a bumper fired";
+  EXPECT_GT(contact_messages_, 0) << "no contact messages: the check above saw nothing";
+  EXPECT_GT(nearest_, 0.0) << "the disc overlapped an object";
+  EXPECT_GE(path_, min_travel) << "the robot did not move enough where the space allows";
+  for (const double e : stop_errors_)
+    EXPECT_LE(std::abs(e), tolerance) << "stop " << e << " m off the clearance";
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  return sl_bringup_test::runSystemTests(argc, argv, "explore_rostest");
+}

@@ -17,6 +17,7 @@ namespace
 constexpr std::uint8_t kFlagHit = 1;
 constexpr std::uint8_t kFlagFree = 2;
 constexpr std::uint8_t kFlagSuspect = 4;
+constexpr std::uint8_t kFlagSuspects = 8;  // two or more lit ends in the voxel in one batch
 constexpr std::size_t kNoVoxel = std::numeric_limits<std::size_t>::max();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kMaxCellsPerSide = 4096;
@@ -265,7 +266,8 @@ void LocalMap::traverse(const MapRay& r)
   }
   if (r.kind != RayKind::Free && end_voxel != kNoVoxel)
   {
-    touch(end_voxel, r.kind == RayKind::Hit ? kFlagHit : kFlagSuspect);
+    const bool again = r.kind == RayKind::Suspect && (flags_[end_voxel] & kFlagSuspect) != 0;
+    touch(end_voxel, r.kind == RayKind::Hit ? kFlagHit : (again ? kFlagSuspects : kFlagSuspect));
   }
   const std::size_t skip = r.kind == RayKind::Free ? kNoVoxel : end_voxel;
 
@@ -321,17 +323,22 @@ void LocalMap::applyBatch(double stamp)
     decayCell(v / slices_, stamp);
     float& l = logodds_[v];
     const std::uint8_t f = flags_[v];
+    // Occupied beats suspect beats free where two or more lit rays end in the voxel: an object that
+    // is lit but not decoded (a thin dark leg near the camera) lights several rays at one place and
+    // must not be erased by the rays that pass beside it through the same cell. A single lit end
+    // loses against free rays: unexplained light that is someone else's gives each primitive of its
+    // row a suspect at another depth, scattered where the free rays know better.
     if (f & kFlagHit)
     {
       l = std::min(l + hit, clamp);
     }
-    else if (f & kFlagFree)
+    else if ((f & kFlagSuspects) || !(f & kFlagFree))
     {
-      l = std::max(l - miss, -clamp);
+      l = std::min(l + suspect, clamp);
     }
     else
     {
-      l = std::min(l + suspect, clamp);
+      l = std::max(l - miss, -clamp);
     }
     flags_[v] = 0;
   }

@@ -96,7 +96,13 @@ const MapSummary& WorldModel::summarize(const Pose2D& robot, double now)
   const double reach = params_.check_distance;
   const PathResult ahead = sweepStraight(map_, params_.footprint, robot.x, robot.y, robot.yaw, 1, reach, now);
   s.free = ahead.free;
-  s.obstacle = ahead.obstacle;
+  // Contact is a matter of the disc itself; the lateral margin only asks for free space beside it.
+  // The disc is widened by half a cell's diagonal: a cell counts when its nearest corner is reached,
+  // not its centre, so an obstacle known only to the map stops the robot early by up to a cell,
+  // never late.
+  FootprintParams body = params_.footprint;
+  body.lateral_margin = 0.71 * params_.map.resolution;
+  s.obstacle = sweepStraight(map_, body, robot.x, robot.y, robot.yaw, 1, reach, now).obstacle;
   s.unknown = ahead.unknown;
   s.known_fraction = ahead.known_fraction;
   s.reverse_free = sweepStraight(map_, params_.footprint, robot.x, robot.y, robot.yaw, -1, reach, now).free;
@@ -137,7 +143,7 @@ const MapSummary& WorldModel::summarize(const Pose2D& robot, double now)
 FrameSummary withMap(FrameSummary f, const MapSummary& m, double tolerance)
 {
   f.from_map = true;
-  const bool same_obstacle = m.obstacle <= m.unknown && std::abs(m.obstacle - f.nearest_obstacle) <= tolerance;
+  const bool same_obstacle = std::abs(m.obstacle - f.nearest_obstacle) <= tolerance;
   if (same_obstacle)
   {
     // The cloud sees the obstacle the map stops at: its distance is exact, the map's is quantised.
@@ -157,5 +163,15 @@ FrameSummary withMap(FrameSummary f, const MapSummary& m, double tolerance)
   f.best_reverse_turn = m.best_reverse_turn;
   f.best_reverse_free = m.best_reverse_free;
   return f;
+}
+double contactTravel(const std::vector<Point>& points, const std::vector<std::uint32_t>& indices, double radius)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (const std::uint32_t i : indices)
+  {
+    const double y = std::min(std::abs(static_cast<double>(points[i].y)), radius);
+    best = std::min(best, points[i].x + radius - std::sqrt(radius * radius - y * y));
+  }
+  return best;
 }
 }  // namespace sl_obstacle

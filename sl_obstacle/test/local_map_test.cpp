@@ -168,7 +168,29 @@ TEST(LocalMap, SuspectNeedsTwoCloudsAndOwnFreePartDoesNotCancelIt)
   EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Occupied);  // 1.0
 }
 
-TEST(LocalMap, SuspectCancelledByAFreeRayOfTheSameCloud)
+TEST(LocalMap, TwoLitEndsBeatAFreeRayOfTheSameCloud)
+{
+  // A thin lit object (a dark leg) shares its cell with rays that pass beside it to the wall: where
+  // two lit rays end in one voxel they win over those free rays, so the leg is not erased.
+  LocalMap map{ MapParams() };
+  const MapRay lit1 = ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect);
+  const MapRay lit2 = ray(0.0F, 0.012F, kLow, 0.612F, 0.012F, kLow, RayKind::Suspect);
+  const MapRay past = ray(0.0F, 0.01F, kLow, 1.0F, 0.01F, kLow, RayKind::Free);
+  const MapRay high = ray(0.0F, 0.01F, kHigh, 1.0F, 0.01F, kHigh, RayKind::Free);
+  map.insert({ lit1, lit2, past, high }, 0.0);
+  EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Unknown);  // not free
+  map.insert({ lit1, lit2, past, high }, 0.0);
+  EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.81, 0.01, 0.0), CellState::Free);  // beyond it the free rays count
+  // Once the light is gone (the object moved), free rays clear the cell.
+  for (int i = 0; i < 4; ++i)
+  {
+    map.insert({ past, high }, 0.0);
+  }
+  EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Free);
+}
+
+TEST(LocalMap, ALoneLitEndLosesAgainstAFreeRayOfTheSameCloud)
 {
   LocalMap map{ MapParams() };
   const std::vector<MapRay> batch = { ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect),

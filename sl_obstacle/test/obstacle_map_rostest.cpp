@@ -73,7 +73,7 @@ protected:
     rays_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("ray_ends", 2);
     twist_sub_ = nh_.subscribe("cmd_vel", 10, &ObstacleMap::onTwist, this);  // the driver's place
     status_sub_ = nh_.subscribe("obstacle_status", 50, &ObstacleMap::onStatus, this);
-    log_sub_ = nh_.subscribe("/rosout_agg", 100, &ObstacleMap::onLog, this);
+    log_sub_ = nh_.subscribe("/rosout", 200, &ObstacleMap::onLog, this);
   }
 
   void onTwist(const geometry_msgs::Twist&) {}

@@ -238,6 +238,18 @@ TEST(WorldModel, BumpIsMarkedInFront)
   EXPECT_LT(s.free, 0.05);
 }
 
+TEST(WorldModel, ContactTravelOfTheDisc)
+{
+  const std::vector<Point> points = { makePoint(0.5F, 0.0F, 0.1F), makePoint(0.45F, 0.15F, 0.1F),
+                                      makePoint(0.2F, 0.4F, 0.1F) };
+  const double r = 0.1675;
+  EXPECT_DOUBLE_EQ(contactTravel(points, { 0 }, r), 0.5);
+  // Off the centre line the disc's arc reaches the point later than the front edge would.
+  EXPECT_NEAR(contactTravel(points, { 1 }, r), 0.45 + r - std::sqrt(r * r - 0.15 * 0.15), 1e-6);
+  EXPECT_DOUBLE_EQ(contactTravel(points, { 0, 1 }, r), 0.5);
+  EXPECT_EQ(contactTravel(points, {}, r), kInf);
+}
+
 TEST(WorldModel, BadParametersNameTheParameter)
 {
   WorldParams p;

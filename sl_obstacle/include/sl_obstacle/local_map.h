@@ -52,7 +52,7 @@ enum class RayKind : std::uint8_t
 {
   Hit,     ///< decoded: free from start to end, occupied at the end if end.z lies in the band
   Free,    ///< floor or dark: free from start to end, nothing at the end
-  Suspect  ///< lit: free from start to end, suspect at the end unless a free part of another ray
+  Suspect  ///< lit: free from start to end, suspect at the end (see insert())
            ///< of the same batch passed through that slice
 };
 
@@ -98,8 +98,9 @@ public:
 
   /// Inserts one cloud's rays taken at @p stamp (s). Free parts lower the log-odds of every slice
   /// they cross inside the band (3D traversal: Amanatides-Woo in x-y, z interpolated); Hit ends
-  /// inside the band raise their slice by `hit`, Suspect ends by `suspect` unless a free part of the
-  /// same batch crossed that slice. Rays are clipped to the window; rays with a non-finite
+  /// inside the band raise their slice by `hit`, Suspect ends by `suspect`; within one batch a
+  /// slice changes once: occupied beats suspect beats free where two or more Suspect rays end in
+  /// the voxel, and free beats a lone Suspect end. Rays are clipped to the window; rays with a non-finite
   /// coordinate are ignored (counted in invalidRays()). No allocation.
   void insert(const std::vector<MapRay>& rays, double stamp);
 

@@ -5,6 +5,7 @@
 #ifndef SL_OBSTACLE_WORLD_MODEL_H
 #define SL_OBSTACLE_WORLD_MODEL_H
 
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/local_map.h"
 #include "sl_obstacle/path_checker.h"
+#include "sl_obstacle/point.h"
 
 namespace sl_obstacle
 {
@@ -43,7 +45,8 @@ struct WorldParams
 struct MapSummary
 {
   double free = 0.0;              ///< straight ahead: known-free travel (see PathResult::free)
-  double obstacle = std::numeric_limits<double>::infinity();  ///< straight ahead: travel to an occupied cell
+  double obstacle = std::numeric_limits<double>::infinity();  ///< straight ahead: travel until the robot's disc
+                                                              ///< (without the lateral margin) reaches an occupied cell
   double unknown = std::numeric_limits<double>::infinity();   ///< straight ahead: travel to an unknown cell
   double known_fraction = 0.0;    ///< straight ahead: share of the swept cells that are known
   double reverse_free = 0.0;      ///< straight back: known-free travel
@@ -104,6 +107,13 @@ private:
  * (the map's is quantised by its cells).
  */
 FrameSummary withMap(FrameSummary cloud, const MapSummary& map, double tolerance);
+
+/**
+ * @brief Travel of a disc robot of @p radius straight ahead (+x) until it touches the nearest of
+ * @p points[@p indices] (platform_edge: x from the front edge, y left): x + radius - sqrt(radius^2
+ * - y^2). The clearance is kept on this travel, in the cloud as in the map. +inf when there is none.
+ */
+double contactTravel(const std::vector<Point>& points, const std::vector<std::uint32_t>& indices, double radius);
 }  // namespace sl_obstacle
 
 #endif  // SL_OBSTACLE_WORLD_MODEL_H

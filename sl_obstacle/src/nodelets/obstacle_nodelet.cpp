@@ -80,6 +80,7 @@ private:
   std::vector<Point> points_;
   std::unique_ptr<WorldModel> world_;  // null without ~use_map
   Cloud::ConstPtr last_points_;        // the latest decoded points, for the map's Hit rays
+  double cloud_contact_ = 0.0;         // the latest cloud's obstacle: travel until the disc touches it
   std::vector<MapRay> rays_;
   Pose2D pose_;
   bool localized_ = false;
@@ -279,6 +280,7 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   last_cloud_stamp_ = cloud->header.stamp;
   last_points_ = cloud;
   const VolumeResult& result = checker_->analyze(points_);
+  cloud_contact_ = contactTravel(points_, result.obstacle_indices, params_.settings.world.footprint.radius);
   if (result.invalid_points > 0)
   {
     NODELET_WARN_THROTTLE(10.0, "cloud has %u points with NaN/inf coordinates (ignored)", result.invalid_points);
@@ -426,7 +428,11 @@ void ObstacleNodelet::decide(const ros::Time& now)
   }
   if (have_frame_)
   {
-    const FrameSummary cloud = summarize(checker_->result(), last_cloud_stamp_.toSec());
+    FrameSummary cloud = summarize(checker_->result(), last_cloud_stamp_.toSec());
+    if (world_)
+    {
+      cloud.nearest_obstacle = cloud_contact_;  // the map keeps the clearance on the disc's travel
+    }
     decider_->onFrame(world_ ? withMap(cloud, world_->summarize(pose_, now.toSec()),
                                        3.0 * params_.settings.world.map.resolution)
                                : cloud);

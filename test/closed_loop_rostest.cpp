@@ -22,14 +22,8 @@
 namespace
 {
 
+using sl_bringup_test::privateParam;
 using sl_bringup_test::yawOf;
-
-double param(const std::string& name, double fallback)
-{
-  double v = fallback;
-  ros::param::get("~" + name, v);
-  return v;
-}
 
 class ClosedLoop : public sl_bringup_test::SimWatch
 {
@@ -68,14 +62,14 @@ protected:
 
 TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
 {
-  const double obstacle_x = param("obstacle_x", 1.0);
-  const double obstacle_y = param("obstacle_y", 0.0);
-  const double clearance = param("clearance", 0.40);
-  const double tolerance = param("tolerance", 0.010);
-  const double lateral_tolerance = param("lateral_tolerance", 0.05);
-  const double edge_offset = param("edge_offset", 0.1675);
-  const double timeout = param("timeout", 150.0);
-  const double start_x = param("start_x", -0.1675);
+  const double obstacle_x = privateParam("obstacle_x", 1.0);
+  const double obstacle_y = privateParam("obstacle_y", 0.0);
+  const double clearance = privateParam("clearance", 0.40);
+  const double tolerance = privateParam("tolerance", 0.010);
+  const double lateral_tolerance = privateParam("lateral_tolerance", 0.05);
+  const double edge_offset = privateParam("edge_offset", 0.1675);
+  const double timeout = privateParam("timeout", 150.0);
+  const double start_x = privateParam("start_x", -0.1675);
   const double settle = 3.0;  // s without motion while BLOCKED: stopped for good
 
   // Wait for a stop: BLOCKED by an obstacle, after having driven, and no motion for `settle` s.

@@ -29,7 +29,6 @@ protected:
   void onStatus(const sl_obstacle::ObstacleStatus& msg) override
   {
     using S = sl_obstacle::ObstacleStatus;
-    ++statuses_;
     if (msg.state == S::BLOCKED && msg.reason_code == S::REASON_OBSTACLE && !blocked_)
       ROS_INFO("room: stopped before an obstacle: %s", msg.reason.c_str());
     blocked_ = blocked_ || (msg.state == S::BLOCKED && msg.reason_code == S::REASON_OBSTACLE);
@@ -52,34 +51,19 @@ protected:
   }
 
   double path_ = 0.0, turned_ = 0.0;
-  int statuses_ = 0, drive_commands_ = 0;
+  int drive_commands_ = 0;
   bool blocked_ = false, turned_after_block_ = false, drove_after_turn_ = false;
   bool gave_up_after_turn_ = false;
 };
 
 TEST_F(Room, RunsAMinuteWithoutContact)
 {
-  double duration = 60.0, min_travel = 0.3, min_turn = 0.5;
-  ros::param::get("~duration", duration);
-  ros::param::get("~min_travel", min_travel);
-  ros::param::get("~min_turn", min_turn);
+  const double duration = sl_bringup_test::privateParam("duration", 60.0);
+  const double min_travel = sl_bringup_test::privateParam("min_travel", 0.3);
+  const double min_turn = sl_bringup_test::privateParam("min_turn", 0.5);
 
   // The minute starts when the system has made its first decision on a cloud.
-  const ros::WallTime start_deadline = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (ros::ok() && ros::WallTime::now() < start_deadline)
-  {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (have_pose_ && statuses_ > 0)
-        break;
-    }
-    ros::WallDuration(0.1).sleep();
-  }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ASSERT_TRUE(have_pose_) << "no true_pose from create_sim";
-    ASSERT_GT(statuses_, 0) << "no obstacle_status";
-  }
+  ASSERT_TRUE(waitForSystem(60.0)) << "no true_pose from create_sim or no obstacle_status";
   // The minute; then, if the first turn cycle has not ended yet (drove on, or no free direction),
   // up to 40 s more for it, still without contact.
   const ros::Time start = ros::Time::now();

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <mutex>
+#include <string>
 
 #include <create_driver/Hazards.h>
 #include <geometry_msgs/PoseStamped.h>
@@ -18,6 +19,14 @@
 
 namespace sl_bringup_test
 {
+
+/// A private parameter of the test node, or @p fallback.
+inline double privateParam(const std::string& name, double fallback)
+{
+  double v = fallback;
+  ros::param::get("~" + name, v);
+  return v;
+}
 
 /// Yaw of a pose that only turns about z, rad.
 inline double yawOf(const geometry_msgs::Pose& p)
@@ -55,7 +64,26 @@ protected:
   /// A decision of the obstacle node.
   virtual void onStatus(const sl_obstacle::ObstacleStatus& msg) = 0;
 
+  /// Waits up to @p seconds for the system: a true pose and a decision. Call without mutex_ held.
+  /// @return true when both arrived.
+  bool waitForSystem(double seconds)
+  {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < deadline)
+    {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (have_pose_ && status_messages_ > 0)
+          return true;
+      }
+      ros::WallDuration(0.1).sleep();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    return have_pose_ && status_messages_ > 0;
+  }
+
   std::mutex mutex_;
+  int status_messages_ = 0;
   bool have_pose_ = false;
   geometry_msgs::Pose pose_;
   int contact_messages_ = 0;
@@ -91,6 +119,7 @@ private:
   void statusCallback(const sl_obstacle::ObstacleStatus& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    ++status_messages_;
     onStatus(msg);
   }
 

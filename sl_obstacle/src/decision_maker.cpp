@@ -487,7 +487,8 @@ bool DecisionMaker::stepBackoff(double now, const MotionState& motion)
   {
     if (frame_.reverse_free < params_.min_goal_distance)
     {
-      return false;  // the aligned heading's reverse path is not free after all: give up
+      phase_ = Phase::GAVE_UP;  // the aligned heading's reverse path is not free after all
+      return false;
     }
     backoff_sent_ = true;
     set(State::BACKING_OFF, Reason::BACKING_OFF, Command::DRIVE);

@@ -47,7 +47,7 @@ struct DecodeResult
 /**
  * @brief Decodes camera images of the projected pattern.
  *
- * Pipeline (SYSTEM.md section 3, with the geometric additions):
+ * Pipeline (the prototype's, with the geometric additions):
  *  1. local mean threshold and 8-connected labelling with speckle, band and size filters;
  *  2. intensity-weighted sub-pixel centroid;
  *  3. shape identification by NCC against the four templates, with a margin;

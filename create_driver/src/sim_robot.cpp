@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "create_driver/safety.h"
 #include "create_driver/stream_parser.h"
@@ -13,6 +14,10 @@ namespace
 constexpr double kRobotRadius = 0.1675;  // m, half the Create's 335 mm diameter
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr size_t kMaxScript = 100;
+// Header, n-bytes and checksum around a stream frame's payload.
+constexpr size_t kStreamFrameOverhead = 3;
+// Baud rates of the Baud command's codes 0..11.
+constexpr unsigned kBaudRates[] = { 300, 600, 1200, 2400, 4800, 9600, 14400, 19200, 28800, 38400, 57600, 115200 };
 
 int16_t clamp16(double v)
 {
@@ -25,6 +30,7 @@ SimRobot::SimRobot(const SimParams& params)
   , wheel_base_(params.wheel_base > 0.0 ? params.wheel_base : defaultWheelBase(params.model))
   , m_per_count_(M_PI * 0.072 / 508.8)
   , rng_(params.seed)
+  , baud_(defaultBaud(params.model))
   , pose_(params.initial_pose)
   , charge_mah_(params.battery_charge_mah)
 {
@@ -40,6 +46,8 @@ void SimRobot::powerCycle()
   stopWheels();
   left_act_ = right_act_ = 0.0;
   input_.clear();
+  script_queued_ = 0;
+  baud_ = defaultBaud(params_.model);
   stream_ids_.clear();
   stream_paused_ = false;
   script_.clear();
@@ -143,7 +151,7 @@ void SimRobot::processInput()
     // commandLength() looks at input_ from index 0: compact first.
     if (pos > 0)
     {
-      input_.erase(input_.begin(), input_.begin() + static_cast<std::ptrdiff_t>(pos));
+      consumeInput(pos);
       pos = 0;
     }
     const int len = commandLength(input_.size());
@@ -155,13 +163,35 @@ void SimRobot::processInput()
     }
     if (len == 0)
       break;  // incomplete command: wait for more bytes
+    // A command that starts in a played script's bytes is part of the script.
+    executing_script_ = script_queued_ > 0;
     // Copy out: execute() may modify input_ (Play Script).
     cmd_.assign(input_.begin(), input_.begin() + len);
-    input_.erase(input_.begin(), input_.begin() + len);
+    consumeInput(static_cast<size_t>(len));
     execute(cmd_.data(), cmd_.size());
+    executing_script_ = false;
   }
   if (pos > 0)
-    input_.erase(input_.begin(), input_.begin() + static_cast<std::ptrdiff_t>(pos));
+    consumeInput(pos);
+}
+
+void SimRobot::consumeInput(size_t n)
+{
+  input_.erase(input_.begin(), input_.begin() + static_cast<std::ptrdiff_t>(n));
+  script_queued_ -= std::min(n, script_queued_);
+}
+
+void SimRobot::refuse(const std::string& reason)
+{
+  ++refused_commands_;
+  last_refusal_ = reason;
+}
+
+size_t SimRobot::streamPayloadLimit() const
+{
+  const double slot_bytes = std::floor(baud_ / 10.0 * params_.stream_period);
+  const double payload = slot_bytes - static_cast<double>(kStreamFrameOverhead);
+  return payload <= 0.0 ? 0 : std::min<size_t>(255, static_cast<size_t>(payload));
 }
 
 void SimRobot::setMode(OiMode mode)
@@ -259,6 +289,22 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       emit(frame_);
       break;
     case oi::STREAM:
+    {
+      // The frame's n-bytes counts ids and data. Over 255 it cannot be sent at all (the length
+      // byte was clamped and every frame was corrupt); over the slot a real robot's frames
+      // overrun each other. Either way the request is refused and the previous stream kept.
+      size_t payload = 0;
+      for (size_t i = 2; i < len; ++i)
+        if (isValidPacket(cmd[i], params_.model))
+          payload += 1 + packetSize(cmd[i], params_.model);
+      const size_t limit = streamPayloadLimit();
+      if (payload > limit)
+      {
+        refuse("Stream refused: " + std::to_string(payload) + " payload bytes, more than the " +
+               std::to_string(limit) + " that fit a " + std::to_string(std::lround(params_.stream_period * 1000.0)) +
+               " ms frame at " + std::to_string(baud_) + " baud; the previous stream continues");
+        break;
+      }
       stream_ids_.clear();
       for (size_t i = 2; i < len; ++i)
         if (isValidPacket(cmd[i], params_.model))
@@ -266,6 +312,7 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       stream_paused_ = false;
       stream_phase_ = 0.0;
       break;
+    }
     case oi::PAUSE_RESUME_STREAM:
       if (stream_paused_ && cmd[1] != 0)
         stream_phase_ = 0.0;
@@ -275,7 +322,15 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       script_.assign(cmd + 2, cmd + std::min(len, 2 + kMaxScript));
       break;
     case oi::PLAY_SCRIPT:
+      // Once per Play Script from the host. Played from inside a script it would re-queue the
+      // script for ever (128 131 152 1 153 153 hung create_sim), so it is refused there.
+      if (executing_script_)
+      {
+        refuse("Play Script inside a script ignored: a script plays once per Play Script from the host");
+        break;
+      }
       input_.insert(input_.begin(), script_.begin(), script_.end());
+      script_queued_ = script_.size();
       break;
     case oi::SHOW_SCRIPT:
       frame_.clear();
@@ -302,9 +357,14 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       wait_ = WaitKind::EVENT;
       wait_event_ = static_cast<int8_t>(cmd[1]);
       break;
+    case oi::BAUD:
+      // The pty has no baud rate; the rate only sizes the stream slot.
+      if (cmd[1] < sizeof(kBaudRates) / sizeof(kBaudRates[0]))
+        baud_ = kBaudRates[cmd[1]];
+      break;
     default:
-      // Baud (the pty has no baud rate), songs, LEDs, low side drivers, outputs, IR, Create 2
-      // schedule/LED/button commands: accepted and ignored.
+      // Songs, LEDs, low side drivers, outputs, IR, Create 2 schedule/LED/button commands:
+      // accepted and ignored.
       break;
   }
   if (wait_ != WaitKind::NONE && waitDone())
@@ -557,7 +617,8 @@ void SimRobot::emitFrame()
     frame_.push_back(id);
     appendPacket(id, frame_);
   }
-  frame_[1] = static_cast<uint8_t>(std::min<size_t>(frame_.size() - 2, 255));
+  // Fits: Stream requests over streamPayloadLimit() (<= 255) are refused.
+  frame_[1] = static_cast<uint8_t>(frame_.size() - 2);
   frame_.push_back(streamChecksum(frame_.data(), frame_.size()));
   ++frames_sent_;
   if (!pending_garbage_.empty())

@@ -1,6 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <functional>
+#include <future>
+#include <memory>
+#include <string>
+#include <thread>
 
 #include "create_driver/sim_robot.h"
 #include "create_driver/stream_parser.h"
@@ -36,6 +42,37 @@ cd::SimRobot safeRobot(cd::SimParams p = cd::SimParams())
   cd::SimRobot r(p);
   send(r, { 128, 131 });
   return r;
+}
+
+// Runs @p f on a thread of its own: false if it has not returned within @p seconds, so a hang
+// fails the test instead of stalling the run (the stuck thread is left behind).
+bool returnsWithin(double seconds, const std::function<void()>& f)
+{
+  auto done = std::make_shared<std::promise<void>>();
+  std::future<void> finished = done->get_future();
+  std::thread([f, done]() {
+    f();
+    done->set_value();
+  }).detach();
+  return finished.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready;
+}
+
+// True if every stream frame in @p out is [19][n][n bytes][checksum] with a zero byte sum and n
+// == @p payload.
+bool framesValid(const Bytes& out, size_t payload)
+{
+  const size_t frame = payload + 3;
+  if (out.empty() || out.size() % frame != 0)
+    return false;
+  for (size_t f = 0; f < out.size(); f += frame)
+  {
+    uint8_t sum = 0;
+    for (size_t i = 0; i < frame; ++i)
+      sum = static_cast<uint8_t>(sum + out[f + i]);
+    if (out[f] != 19 || out[f + 1] != payload || sum != 0)
+      return false;
+  }
+  return true;
 }
 }  // namespace
 
@@ -414,4 +451,128 @@ TEST(SimRobot, SplitCommandsAcrossReceives)
   }
   EXPECT_DOUBLE_EQ(r.commandedRight(), 0.12);
   EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.08);
+}
+
+// 128 131 152 1 153 153 from a client hung create_sim: the script [153] re-queued itself for ever.
+TEST(SimRobot, ScriptThatPlaysItselfDoesNotHang)
+{
+  auto r = std::make_shared<cd::SimRobot>();
+  const Bytes input = { 128, 131, 152, 1, 153, 153 };
+  ASSERT_TRUE(returnsWithin(5.0, [r, input]() { r->receive(input.data(), input.size()); }))
+      << "receive() did not return";
+  EXPECT_EQ(r->mode(), cd::OiMode::SAFE);
+  EXPECT_FALSE(r->waiting());
+  EXPECT_EQ(r->inputQueued(), 0u);
+  // Start, Safe, Script, Play Script, and the script's own Play Script, which is refused.
+  EXPECT_EQ(r->commands(), 5u);
+  EXPECT_EQ(r->refusedCommands(), 1u);
+  EXPECT_EQ(r->lastRefusal().rfind("Play Script inside a script ignored", 0), 0u) << r->lastRefusal();
+  // The script is kept as defined and the robot still answers.
+  send(*r, { 154, 142, 35 });
+  EXPECT_EQ(output(*r), (Bytes{ 1, 153, 2 }));
+}
+
+// A script of Play Scripts played by many Play Scripts grew the input queue without bound.
+TEST(SimRobot, ManyPlayScriptsStayBounded)
+{
+  auto r = std::make_shared<cd::SimRobot>();
+  Bytes input = { 128, 131, 152, 100 };
+  input.insert(input.end(), 100, 153);   // the longest script: 100 Play Scripts
+  input.insert(input.end(), 1000, 153);  // played 1000 times
+  ASSERT_TRUE(returnsWithin(5.0, [r, input]() { r->receive(input.data(), input.size()); }))
+      << "receive() did not return";
+  EXPECT_EQ(r->inputQueued(), 0u);
+  EXPECT_EQ(r->refusedCommands(), 100u * 1000u);
+  EXPECT_EQ(r->commands(), 3u + 1000u + 100u * 1000u);
+  send(*r, { 142, 35 });
+  EXPECT_EQ(output(*r), (Bytes{ 2 }));
+}
+
+// A script ending in Play Script (the OI manual's way to repeat one) plays once per Play Script
+// from the host: its own Play Script is refused after its Wait, a queued host one plays it again.
+TEST(SimRobot, ScriptPlaysOncePerPlayScript)
+{
+  cd::SimRobot r = safeRobot();
+  Bytes script = cd::encodeDrive(100, cd::oi::RADIUS_STRAIGHT);
+  script.insert(script.end(), { 155, 5 });  // Wait Time 0.5 s
+  const Bytes stop = cd::encodeDrive(0, cd::oi::RADIUS_STRAIGHT);
+  script.insert(script.end(), stop.begin(), stop.end());
+  script.push_back(153);
+  Bytes define = { 152, static_cast<uint8_t>(script.size()) };
+  define.insert(define.end(), script.begin(), script.end());
+  send(r, define);
+  send(r, { 153 });
+  EXPECT_TRUE(r.waiting());
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.1);
+  advance(r, 1.0);
+  EXPECT_FALSE(r.waiting());
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  EXPECT_EQ(r.refusedCommands(), 1u);
+  EXPECT_NEAR(r.truePose().x, 0.05, 0.001);
+  advance(r, 1.0);
+  EXPECT_NEAR(r.truePose().x, 0.05, 0.001) << "the script repeated by itself";
+  // A Play Script sent during the script's Wait is held, then plays the script once more.
+  send(r, { 153 });
+  send(r, { 153 });
+  advance(r, 0.7);
+  EXPECT_TRUE(r.waiting());
+  EXPECT_DOUBLE_EQ(r.commandedLeft(), 0.1);
+  advance(r, 0.5);
+  EXPECT_FALSE(r.waiting());
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  EXPECT_EQ(r.refusedCommands(), 3u);
+  EXPECT_EQ(r.inputQueued(), 0u);
+  EXPECT_NEAR(r.truePose().x, 0.15, 0.002);
+}
+
+// Four times packet group 100 on a Create 2 is 324 payload bytes: the length byte was clamped to
+// 255 and every frame was corrupt. The request is refused and the previous stream kept.
+TEST(SimRobot, StreamTooLargeForItsFrameIsRefused)
+{
+  cd::SimParams p;
+  p.model = cd::Model::CREATE_2;
+  cd::SimRobot r = safeRobot(p);
+  EXPECT_EQ(r.streamPayloadLimit(), 169u);  // 172 bytes in 15 ms at 115200 baud, less 3
+  send(r, { 148, 4, 100, 100, 100, 100 });
+  EXPECT_EQ(r.refusedCommands(), 1u);
+  EXPECT_EQ(r.lastRefusal().rfind("Stream refused: 324 payload bytes, more than the 169", 0), 0u) << r.lastRefusal();
+  EXPECT_FALSE(r.streaming());
+  r.step(0.1);
+  EXPECT_TRUE(output(r).empty());
+
+  // With a stream running, the previous stream continues unchanged.
+  send(r, cd::encodeStream({ 7 }));
+  r.step(0.03);
+  output(r);
+  send(r, { 148, 4, 100, 100, 100, 100 });
+  EXPECT_EQ(r.refusedCommands(), 2u);
+  EXPECT_TRUE(r.streaming());
+  r.step(0.15);
+  const Bytes out = output(r);
+  EXPECT_GE(out.size(), 9u * 5u);
+  EXPECT_TRUE(framesValid(out, 2));
+
+  // Under 255 but over the frame's 15 ms: refused as well; what fits is streamed intact.
+  send(r, { 148, 3, 100, 100, 100 });
+  EXPECT_EQ(r.refusedCommands(), 3u);
+  send(r, { 148, 2, 100, 100 });
+  EXPECT_EQ(r.refusedCommands(), 3u);
+  r.step(0.03);
+  EXPECT_TRUE(framesValid(output(r), 2 * 81));
+}
+
+TEST(SimRobot, StreamLimitFollowsTheBaudRate)
+{
+  cd::SimRobot r = safeRobot();
+  EXPECT_EQ(r.streamPayloadLimit(), 83u);  // Create at 57600 baud: 86 bytes in 15 ms, less 3
+  send(r, { 148, 2, 6, 6 });                // 2 x (1 + 52) = 106 bytes
+  EXPECT_EQ(r.refusedCommands(), 1u);
+  send(r, { 129, 11 });  // Baud 115200
+  EXPECT_EQ(r.streamPayloadLimit(), 169u);
+  send(r, { 148, 2, 6, 6 });
+  EXPECT_EQ(r.refusedCommands(), 1u);
+  r.step(0.015);
+  EXPECT_TRUE(framesValid(output(r), 106));
+  r.powerCycle();  // back to the default rate
+  EXPECT_EQ(r.streamPayloadLimit(), 83u);
 }

@@ -220,6 +220,39 @@ objects:
   }
 }
 
+// A top-level key that is not a name threw YAML::TypedBadConversion instead of SceneFileError.
+TEST(SceneFile, KeysThatAreNotNamesAreSceneFileErrors)
+{
+  EXPECT_THROW(parseScene("? :", "t.yaml"), SceneFileError);
+  EXPECT_THROW(parseScene("[1]: 2", "t.yaml"), SceneFileError);
+  // `? :` is an explicit key that is itself the mapping {~: ~}.
+  EXPECT_EQ(errorOf("? :"), "t.yaml: {~: ~}: a key must be a name, not a list or a mapping (line 1)");
+  EXPECT_EQ(errorOf("[1]: 2"), "t.yaml: [1]: a key must be a name, not a list or a mapping (line 1)");
+  EXPECT_EQ(errorOf("objects: []\n~: 1\n"), "t.yaml: <empty key>: a key must be a name, not empty (line 2)");
+  EXPECT_EQ(errorOf("? - 1\n  - 2\n: 3\n"), "t.yaml: [1, 2]: a key must be a name, not a list or a mapping (line 1)");
+  EXPECT_EQ(errorOf("objects: [{type: plane, position: [0, 0, 0], [1]: 2}]\n"),
+            "t.yaml: objects[0] (plane): [1]: a key must be a name, not a list or a mapping (line 1)");
+  EXPECT_EQ(errorOf("objects: [{type: plane, position: [0, 0, 0], texture: {type: noise, ? : }}]\n"),
+            "t.yaml: objects[0] (plane): texture.{~: ~}: a key must be a name, not a list or a mapping (line 1)");
+
+  // Through loadScene, as sl_render and the simulator read it: the message names the file.
+  const std::string path = ::testing::TempDir() + "scene_list_key.yaml";
+  {
+    std::ofstream out(path);
+    out << "[1]: 2";
+  }
+  try
+  {
+    loadScene(path);
+    ADD_FAILURE() << "no error";
+  }
+  catch (const SceneFileError& e)
+  {
+    EXPECT_EQ(std::string(e.what()), path + ": [1]: a key must be a name, not a list or a mapping (line 1)");
+  }
+  std::remove(path.c_str());
+}
+
 TEST(SceneFile, MissingFileIsNamed)
 {
   try

@@ -46,7 +46,7 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
 {
   config_.validate();
   rig_.validate();
-  const size_t cells = static_cast<size_t>(rig.pattern.rows * rig.pattern.cols);
+  const size_t cells = static_cast<size_t>(rig.pattern.rows) * static_cast<size_t>(rig.pattern.cols);
   if (config_.depth_mode == DepthMode::Rational && rig_.tables.rational.size() != cells)
     throw std::invalid_argument("depth_mode rational needs depth_tables.rational in the calibration file");
   if (config_.depth_mode == DepthMode::Linear && rig_.tables.linear.size() != cells)
@@ -64,6 +64,7 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
   grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;
+  grid_cells_ = sl_projector::checkedCells(grid_w_, grid_h_, "neighbour grid");
 }
 
 Decoder::~Decoder() = default;
@@ -182,12 +183,12 @@ void Decoder::findCandidates(DecodeResult& result)
 void Decoder::findNeighbours(DecodeResult& result)
 {
   std::vector<Blob>& blobs = result.blobs;
-  const size_t cells = static_cast<size_t>(grid_w_ * grid_h_);
+  const size_t cells = grid_cells_;
   grid_start_.assign(cells + 1, 0);
   auto cellOf = [&](const Blob& b) {
     const int gx = std::min(grid_w_ - 1, std::max(0, static_cast<int>(b.u / grid_cell_)));
     const int gy = std::min(grid_h_ - 1, std::max(0, static_cast<int>(b.v / grid_cell_)));
-    return static_cast<size_t>(gy * grid_w_ + gx);
+    return static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
   };
   // Counting sort of identified blobs into grid cells.
   for (const Blob& b : blobs)
@@ -255,7 +256,7 @@ void Decoder::findNeighbours(DecodeResult& result)
       for (int gy = gy0; gy <= gy1; ++gy)
         for (int gx = gx0; gx <= gx1; ++gx)
         {
-          const size_t cell = static_cast<size_t>(gy * grid_w_ + gx);
+          const size_t cell = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
           for (int32_t k = grid_start_[cell]; k < grid_start_[cell + 1]; ++k)
           {
             const int32_t j = grid_items_[static_cast<size_t>(k)];

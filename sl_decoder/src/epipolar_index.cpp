@@ -11,18 +11,22 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
 {
   const sl_projector::Pattern pattern(rig.pattern);
   const int rows = rig.pattern.rows, cols = rig.pattern.cols;
-  const int n = rows * cols;
   const sl_projector::PinholeModel& cam = rig.camera;
+  // Sizes in 64 bits and bounded before anything is allocated: a 262144 x 262144 camera
+  // overflowed int here and the tables came out too small (a crash, not an error).
+  sl_projector::checkedCells(cam.width, cam.height, "camera image");
+  const int n = static_cast<int>(sl_projector::checkedCells(cols, rows, "pattern"));
 
   // Ray table: undistorted normalised coordinates on a coarse grid, interpolated at run time.
   ray_w_ = cam.width / kRayStep + 2;
   ray_h_ = cam.height / kRayStep + 2;
-  ray_table_.resize(static_cast<size_t>(ray_w_ * ray_h_));
+  ray_table_.resize(sl_projector::checkedCells(ray_w_, ray_h_, "camera ray table"));
   for (int j = 0; j < ray_h_; ++j)
     for (int i = 0; i < ray_w_; ++i)
     {
       const Eigen::Vector3d r = cam.ray(Eigen::Vector2d(i * kRayStep, j * kRayStep));
-      ray_table_[static_cast<size_t>(j * ray_w_ + i)] = Eigen::Vector2d(r.x(), r.y());
+      ray_table_[static_cast<size_t>(j) * static_cast<size_t>(ray_w_) + static_cast<size_t>(i)] =
+          Eigen::Vector2d(r.x(), r.y());
     }
 
   projector_origin_ = rig.projector_pose.translation;
@@ -89,7 +93,7 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
   // linear in it) finely enough for sub-block steps, and list the blocks within the tolerance.
   blocks_x_ = (cam.width + (1 << kBlockShift) - 1) >> kBlockShift;
   blocks_y_ = (cam.height + (1 << kBlockShift) - 1) >> kBlockShift;
-  const size_t blocks = static_cast<size_t>(blocks_x_ * blocks_y_);
+  const size_t blocks = sl_projector::checkedCells(blocks_x_, blocks_y_, "epipolar block table");
   std::vector<std::vector<int32_t>> lists(blocks);
   std::vector<int32_t> stamp(blocks, -1);
   const double reach = config.epipolar_tolerance + 1.0;
@@ -123,7 +127,7 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
       for (int by = by0; by <= by1; ++by)
         for (int bx = bx0; bx <= bx1; ++bx)
         {
-          const size_t block = static_cast<size_t>(by * blocks_x_ + bx);
+          const size_t block = static_cast<size_t>(by) * static_cast<size_t>(blocks_x_) + static_cast<size_t>(bx);
           if (stamp[block] != i)
           {
             stamp[block] = i;
@@ -158,10 +162,12 @@ Eigen::Vector3d EpipolarIndex::cameraRay(double u, double v) const
   fy = std::min(std::max(fy, 0.0), static_cast<double>(ray_h_ - 1) - 1e-9);
   const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
   const double ax = fx - ix, ay = fy - iy;
-  const Eigen::Vector2d& p00 = ray_table_[static_cast<size_t>(iy * ray_w_ + ix)];
-  const Eigen::Vector2d& p10 = ray_table_[static_cast<size_t>(iy * ray_w_ + ix + 1)];
-  const Eigen::Vector2d& p01 = ray_table_[static_cast<size_t>((iy + 1) * ray_w_ + ix)];
-  const Eigen::Vector2d& p11 = ray_table_[static_cast<size_t>((iy + 1) * ray_w_ + ix + 1)];
+  const size_t w = static_cast<size_t>(ray_w_);
+  const size_t k00 = static_cast<size_t>(iy) * w + static_cast<size_t>(ix);
+  const Eigen::Vector2d& p00 = ray_table_[k00];
+  const Eigen::Vector2d& p10 = ray_table_[k00 + 1];
+  const Eigen::Vector2d& p01 = ray_table_[k00 + w];
+  const Eigen::Vector2d& p11 = ray_table_[k00 + w + 1];
   const Eigen::Vector2d q = (1 - ay) * ((1 - ax) * p00 + ax * p10) + ay * ((1 - ax) * p01 + ax * p11);
   return { q.x(), q.y(), 1.0 };
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "sl_decoder/evaluation.h"
 
@@ -159,6 +161,29 @@ TEST(Decoder, BadImagesAreHandled)
   EXPECT_THROW(decoder.decode(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), result), std::invalid_argument);
   EXPECT_THROW(decoder.decode(cv::Mat(480, 752, CV_16UC1, cv::Scalar(0)), result), std::invalid_argument);
   EXPECT_THROW(decoder.decode(cv::Mat(), result), std::invalid_argument);
+}
+
+// A rig with a 262144 x 262144 camera made sl_decode segfault: the table sizes overflowed int and
+// the buffers came out too small. Both entry points refuse it before allocating anything.
+TEST(Decoder, HugeCamerasAreRefusedNotOverflowed)
+{
+  for (const auto& size : { std::make_pair(262144, 262144), std::make_pair(400000, 300000) })
+  {
+    sl_projector::Rig rig = defaultRig();
+    rig.camera.width = size.first;
+    rig.camera.height = size.second;
+    EXPECT_THROW(Decoder{ rig }, std::invalid_argument) << size.first;
+    // The index checks its own sizes too (it does not rely on the rig having been validated).
+    try
+    {
+      EpipolarIndex index(rig, DecoderConfig());
+      ADD_FAILURE() << "a " << size.first << " x " << size.second << " camera was accepted";
+    }
+    catch (const std::invalid_argument& e)
+    {
+      EXPECT_EQ(std::string(e.what()).rfind("camera image: ", 0), 0u) << e.what();
+    }
+  }
 }
 
 TEST(Decoder, DepthTablesAreRequiredForTableModes)

@@ -30,13 +30,31 @@ void PatternConfig::validate() const
   require(offset_y >= 0, "offset_y must be >= 0, got " + std::to_string(offset_y));
   require(projector_width > 0, "projector_width must be > 0, got " + std::to_string(projector_width));
   require(projector_height > 0, "projector_height must be > 0, got " + std::to_string(projector_height));
-  const long long right = offset_x + static_cast<long long>(cols) * cellWidth();
-  const long long bottom = offset_y + static_cast<long long>(rows) * cellHeight();
-  require(right <= projector_width, "cols: " + std::to_string(cols) + " cells of " + std::to_string(cellWidth()) +
+  require(projector_width <= kMaxImageSide, "projector_width must be <= " + std::to_string(kMaxImageSide) + ", got " +
+                                                std::to_string(projector_width));
+  require(projector_height <= kMaxImageSide, "projector_height must be <= " + std::to_string(kMaxImageSide) +
+                                                 ", got " + std::to_string(projector_height));
+  // Each of these alone must fit in the frame, so the sums and products below cannot overflow
+  // (primitive_width 2147483647 with gap_x 1 once wrapped to a negative cell width and passed).
+  auto fitsIn = [](const char* field, int value, const char* side_name, int side) {
+    require(value <= side, std::string(field) + " must be <= " + side_name + " (" + std::to_string(side) + "), got " +
+                               std::to_string(value));
+  };
+  fitsIn("primitive_width", primitive_width, "projector_width", projector_width);
+  fitsIn("gap_x", gap_x, "projector_width", projector_width);
+  fitsIn("offset_x", offset_x, "projector_width", projector_width);
+  fitsIn("primitive_height", primitive_height, "projector_height", projector_height);
+  fitsIn("gap_y", gap_y, "projector_height", projector_height);
+  fitsIn("offset_y", offset_y, "projector_height", projector_height);
+  const long long cell_w = static_cast<long long>(primitive_width) + gap_x;
+  const long long cell_h = static_cast<long long>(primitive_height) + gap_y;
+  const long long right = offset_x + static_cast<long long>(cols) * cell_w;
+  const long long bottom = offset_y + static_cast<long long>(rows) * cell_h;
+  require(right <= projector_width, "cols: " + std::to_string(cols) + " cells of " + std::to_string(cell_w) +
                                         " px from offset_x " + std::to_string(offset_x) + " need " +
                                         std::to_string(right) + " px, more than projector_width " +
                                         std::to_string(projector_width));
-  require(bottom <= projector_height, "rows: " + std::to_string(rows) + " cells of " + std::to_string(cellHeight()) +
+  require(bottom <= projector_height, "rows: " + std::to_string(rows) + " cells of " + std::to_string(cell_h) +
                                           " px from offset_y " + std::to_string(offset_y) + " need " +
                                           std::to_string(bottom) + " px, more than projector_height " +
                                           std::to_string(projector_height));

@@ -1,5 +1,7 @@
 // Rig (calibration) file reading, writing and validation.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -19,10 +21,17 @@ namespace
   throw RigFileError(source + ": " + key + ": " + what);
 }
 
-YAML::Node child(const YAML::Node& node, const std::string& name, const std::string& path, const std::string& source)
+// Subscripting a scalar or a list throws YAML::BadSubscript, which names neither file nor key:
+// every lookup goes through a mapping checked here first.
+void requireMap(const YAML::Node& node, const std::string& path, const std::string& source)
 {
   if (!node.IsMap())
     fail(source, path.empty() ? std::string("<top level>") : path, "must be a mapping");
+}
+
+YAML::Node child(const YAML::Node& node, const std::string& name, const std::string& path, const std::string& source)
+{
+  requireMap(node, path, source);
   const YAML::Node c = node[name];
   if (!c)
     fail(source, path.empty() ? name : path + "." + name, "missing");
@@ -46,11 +55,19 @@ T scalar(const YAML::Node& node, const std::string& name, const std::string& pat
   }
 }
 
+// The child @p name of mapping @p node, or an undefined node if it is absent.
+YAML::Node optionalChild(const YAML::Node& node, const std::string& name, const std::string& path,
+                         const std::string& source)
+{
+  requireMap(node, path, source);
+  return node[name];
+}
+
 template <typename T>
 T scalarOr(const YAML::Node& node, const std::string& name, const std::string& path, const std::string& source,
            const T& fallback)
 {
-  return node[name] ? scalar<T>(node, name, path, source) : fallback;
+  return optionalChild(node, name, path, source) ? scalar<T>(node, name, path, source) : fallback;
 }
 
 std::vector<double> numbers(const YAML::Node& node, const std::string& name, const std::string& path,
@@ -115,10 +132,10 @@ std::vector<DepthModel> readModels(const YAML::Node& tables, const std::string& 
                                    const std::string& source)
 {
   std::vector<DepthModel> out;
-  if (!tables[name])
+  const YAML::Node t = optionalChild(tables, name, "depth_tables", source);
+  if (!t)
     return out;
   const std::string path = "depth_tables." + name;
-  const YAML::Node t = tables[name];
   const std::vector<double> a = numbers(t, "a", path, source, count, count);
   const std::vector<double> b = numbers(t, "b", path, source, count, count);
   const std::vector<double> c = rational ? numbers(t, "c", path, source, count, count) : std::vector<double>(count, 0.0);
@@ -149,6 +166,15 @@ void validatePinhole(const PinholeModel& m, const std::string& name)
 {
   requireThat(m.width > 0, name + ".width", "must be > 0");
   requireThat(m.height > 0, name + ".height", "must be > 0");
+  // Bounded before anything sizes a buffer by width * height (which overflowed int and crashed the
+  // decoder at 262144 x 262144).
+  const std::string side_limit = "must be at most " + std::to_string(kMaxImageSide) + " px";
+  requireThat(m.width <= kMaxImageSide, name + ".width", side_limit + ", got " + std::to_string(m.width));
+  requireThat(m.height <= kMaxImageSide, name + ".height", side_limit + ", got " + std::to_string(m.height));
+  const int64_t pixels = static_cast<int64_t>(m.width) * m.height;
+  requireThat(pixels <= kMaxImagePixels, name + ".width, " + name + ".height",
+              std::to_string(m.width) + " x " + std::to_string(m.height) + " = " + std::to_string(pixels) +
+                  " px, more than the " + std::to_string(kMaxImagePixels) + " px allowed");
   requireThat(std::isfinite(m.fx) && m.fx > 0.0 && std::isfinite(m.fy) && m.fy > 0.0, name + ".K",
               "focal lengths must be finite and > 0");
   requireThat(std::isfinite(m.cx) && std::isfinite(m.cy), name + ".K", "principal point must be finite");
@@ -191,19 +217,10 @@ void Rig::validate() const
               "must have rows * cols entries");
 }
 
-Rig parseRig(const std::string& text, const std::string& source)
+namespace
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw RigFileError(source + ": not valid YAML: " + e.what());
-  }
-  if (!root || !root.IsMap())
-    throw RigFileError(source + ": <top level>: must be a mapping (is the file empty?)");
+Rig parseRoot(const YAML::Node& root, const std::string& source)
+{
   const int version = scalar<int>(root, "format_version", "", source);
   if (version != 1)
     fail(source, "format_version", "is " + std::to_string(version) + ", this software reads version 1");
@@ -232,19 +249,19 @@ Rig parseRig(const std::string& text, const std::string& source)
   pc.projector_width = rig.projector.width;
   pc.projector_height = rig.projector.height;
 
-  if (root["mount"])
+  if (const YAML::Node m = optionalChild(root, "mount", "", source))
   {
-    const YAML::Node m = root["mount"];
+    requireMap(m, "mount", source);
     rig.mount.parent_frame = scalarOr<std::string>(m, "parent_frame", "mount", source, rig.mount.parent_frame);
     rig.mount.xyz = vec3(m, "xyz", "mount", source);
     rig.mount.rpy = vec3(m, "rpy", "mount", source);
   }
 
-  if (root["depth_tables"])
+  if (const YAML::Node t = optionalChild(root, "depth_tables", "", source))
   {
-    const YAML::Node t = root["depth_tables"];
+    requireMap(t, "depth_tables", source);
     const size_t cells = static_cast<size_t>(std::max(0, pc.rows)) * static_cast<size_t>(std::max(0, pc.cols));
-    if (t["distances"])
+    if (optionalChild(t, "distances", "depth_tables", source))
       rig.tables.distances = numbers(t, "distances", "depth_tables", source, 0, 1000);
     rig.tables.linear = readModels(t, "linear", false, cells, source);
     rig.tables.rational = readModels(t, "rational", true, cells, source);
@@ -259,6 +276,31 @@ Rig parseRig(const std::string& text, const std::string& source)
     throw RigFileError(source + ": " + e.what());
   }
   return rig;
+}
+}  // namespace
+
+Rig parseRig(const std::string& text, const std::string& source)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw RigFileError(source + ": not valid YAML: " + e.what());
+  }
+  if (!root || !root.IsMap())
+    throw RigFileError(source + ": <top level>: must be a mapping (is the file empty?)");
+  try
+  {
+    return parseRoot(root, source);
+  }
+  catch (const YAML::Exception& e)
+  {
+    // Backstop: the checks above should name the key; a yaml-cpp error still names the file.
+    throw RigFileError(source + ": " + e.what());
+  }
 }
 
 Rig loadRig(const std::string& path)

@@ -133,3 +133,30 @@ TEST(Pattern, InvalidConfigurationsNameTheField)
   EXPECT_EQ(errorOf(c), "");
   EXPECT_THROW(Pattern{ c }, std::invalid_argument);
 }
+
+// primitive_width 2147483647 with gap_x 1 wrapped the cell width to a negative number, passed
+// validation and made the decoder allocate a 77 GB template.
+TEST(Pattern, HugePrimitivesAndGapsAreRefusedWithoutOverflow)
+{
+  PatternConfig c;
+  c.primitive_width = 2147483647;
+  c.gap_x = 1;
+  EXPECT_EQ(errorOf(c).rfind("primitive_width", 0), 0u) << errorOf(c);
+  c = PatternConfig();
+  c.gap_x = 2147483647;
+  EXPECT_EQ(errorOf(c).rfind("gap_x", 0), 0u) << errorOf(c);
+  c = PatternConfig();
+  c.primitive_height = 2147483647;
+  c.gap_y = 2147483647;
+  EXPECT_EQ(errorOf(c).rfind("primitive_height", 0), 0u) << errorOf(c);
+  c = PatternConfig();
+  c.offset_y = 2147483647;
+  EXPECT_EQ(errorOf(c).rfind("offset_y", 0), 0u) << errorOf(c);
+  c = PatternConfig();
+  c.projector_width = kMaxImageSide + 1;
+  EXPECT_EQ(errorOf(c).rfind("projector_width", 0), 0u) << errorOf(c);
+  // A primitive as wide as the frame is refused by the layout, not by the bound.
+  c = PatternConfig();
+  c.primitive_width = c.projector_width;
+  EXPECT_EQ(errorOf(c).rfind("cols", 0), 0u) << errorOf(c);
+}

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 
 #include "sl_projector/rig.h"
@@ -196,4 +197,76 @@ TEST(Rig, BadFilesNameTheKey)
     EXPECT_NE(std::string(e.what()).find("/nonexistent/rig.yaml: cannot open"), std::string::npos);
   }
   EXPECT_THROW(saveRig(loadRig(kDefaultRig), "/nonexistent/dir/rig.yaml"), RigFileError);
+}
+
+// A 262144 x 262144 camera overflowed int in the decoder's table sizes and crashed sl_decode.
+TEST(Rig, ImageSizesAreBounded)
+{
+  const std::string good = readFile(kDefaultRig);
+  const std::string camera_size = "  width: 752\n  height: 480";
+  for (const char* size : { "  width: 262144\n  height: 262144", "  width: 400000\n  height: 300000" })
+  {
+    const std::string text = replaced(good, camera_size, size);
+    EXPECT_THROW(parseRig(text, "test.yaml"), RigFileError);
+    const std::string error = parseError(text);
+    EXPECT_EQ(error.rfind("test.yaml: camera.width: must be at most 16384 px", 0), 0u) << error;
+  }
+  // Each side within the limit, the area not.
+  const std::string error = parseError(replaced(good, camera_size, "  width: 16384\n  height: 16384"));
+  EXPECT_EQ(error.rfind("test.yaml: camera.width, camera.height: 16384 x 16384", 0), 0u) << error;
+  // The largest allowed camera loads.
+  EXPECT_EQ(parseError(replaced(good, camera_size, "  width: 16384\n  height: 4096")), "");
+  // The projector is bounded as well (its frame is the pattern's).
+  const std::string projector = parseError(replaced(good, "  width: 480\n  height: 320", "  width: 480\n  height: 262144"));
+  EXPECT_EQ(projector.rfind("test.yaml: projector.height: must be at most 16384 px", 0), 0u) << projector;
+}
+
+TEST(Rig, TableSizesAreComputedWithoutOverflow)
+{
+  // The decoder's ray table of a 262144 px square camera: 65538 x 65538 cells, > INT_MAX.
+  EXPECT_THROW(checkedCells(65538, 65538, "ray table"), std::invalid_argument);
+  EXPECT_THROW(checkedCells(100002, 75002, "ray table"), std::invalid_argument);
+  EXPECT_THROW(checkedCells(int64_t{ 1 } << 40, int64_t{ 1 } << 40, "ray table"), std::invalid_argument);
+  EXPECT_THROW(checkedCells(0, 5, "ray table"), std::invalid_argument);
+  EXPECT_EQ(checkedCells(190, 122, "ray table"), 23180u);
+  EXPECT_EQ(checkedCells(16384, 4096, "image"), static_cast<size_t>(kMaxImagePixels));
+  try
+  {
+    checkedCells(65538, 65538, "ray table");
+  }
+  catch (const std::invalid_argument& e)
+  {
+    EXPECT_EQ(std::string(e.what()).rfind("ray table: 65538 x 65538 cells", 0), 0u) << e.what();
+  }
+}
+
+// primitive_width 2147483647 with gap_x 1 passed validation and hung sl_decode.
+TEST(Rig, HugePrimitiveSizesAreRefused)
+{
+  const std::string good = readFile(kDefaultRig);
+  std::string text = replaced(replaced(good, "primitive_width: 5", "primitive_width: 2147483647"), "gap_x: 2", "gap_x: 1");
+  EXPECT_THROW(parseRig(text, "test.yaml"), RigFileError);
+  std::string error = parseError(text);
+  EXPECT_EQ(error.rfind("test.yaml: pattern.primitive_width must be <= projector_width (480)", 0), 0u) << error;
+  error = parseError(replaced(good, "gap_y: 6", "gap_y: 2147483647"));
+  EXPECT_EQ(error.rfind("test.yaml: pattern.gap_y must be <= projector_height (320)", 0), 0u) << error;
+}
+
+// `mount: 1` and `depth_tables: 5` threw a raw YAML::BadSubscript naming neither file nor key.
+TEST(Rig, WrongNodeTypesNameTheFileAndKey)
+{
+  const std::string good = readFile(kDefaultRig);
+  const std::string mount =
+      "mount:\n  parent_frame: platform_edge\n  xyz: [-0.030, 0.025, 0.0865]\n  rpy: [0.0, 0.0, -0.03702]";
+  const std::string mount_1 = replaced(good, mount, "mount: 1");
+  EXPECT_THROW(parseRig(mount_1, "test.yaml"), RigFileError);
+  EXPECT_EQ(parseError(mount_1), "test.yaml: mount: must be a mapping");
+  const std::string tables_5 = good + "depth_tables: 5\n";
+  EXPECT_THROW(parseRig(tables_5, "test.yaml"), RigFileError);
+  EXPECT_EQ(parseError(tables_5), "test.yaml: depth_tables: must be a mapping");
+  EXPECT_EQ(parseError(replaced(good, mount, "mount: [1, 2]")), "test.yaml: mount: must be a mapping");
+  EXPECT_EQ(parseError(good + "depth_tables: {linear: 3}\n"), "test.yaml: depth_tables.linear: must be a mapping");
+  EXPECT_EQ(parseError(replaced(good, "pattern:", "pattern: 7\nunused:")), "test.yaml: pattern: must be a mapping");
+  EXPECT_EQ(parseError(replaced(good, "  K: [1492.0", "  K: {a: 1}\n  Kx: [1492.0")),
+            "test.yaml: camera.K: must be a list of numbers");
 }

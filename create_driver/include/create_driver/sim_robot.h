@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "create_driver/odometry.h"
@@ -41,8 +42,11 @@ struct SimParams
 /// Sensors, Query List and Stream (header 19, n-bytes, ids and data, checksum) answer from the
 /// simulated state; distance (19) and angle (20) count since they were last read and keep the
 /// sub-unit remainder. Wait Time / Distance / Angle / Event hold all command input until done
-/// (the stream keeps running). Scripts (Create 1) are stored and played. Unknown bytes are
-/// ignored.
+/// (the stream keeps running). Scripts (Create 1) are stored and played once per Play Script
+/// from the host; a Play Script inside a playing script is refused, so a script that plays
+/// itself cannot loop the simulator forever. A Stream request whose frame would not fit its
+/// 15 ms slot (streamPayloadLimit()) is refused and the previous stream kept. Refusals are
+/// counted with a reason (refusedCommands(), lastRefusal()). Unknown bytes are ignored.
 class SimRobot
 {
 public:
@@ -104,6 +108,18 @@ public:
   uint64_t framesSent() const { return frames_sent_; }
   /// @brief Bytes ignored (unknown opcodes, Off mode, input overflow).
   uint64_t ignoredBytes() const { return ignored_bytes_; }
+  /// @brief Complete commands refused (also counted in commands()): a Stream request too large
+  /// for its slot, a Play Script inside a playing script.
+  uint64_t refusedCommands() const { return refused_commands_; }
+  /// @brief Why the last command was refused ("" if none was).
+  const std::string& lastRefusal() const { return last_refusal_; }
+  /// @brief Bytes in the input queue: held by a Wait, an incomplete command, or a script's rest.
+  size_t inputQueued() const { return input_.size(); }
+  /// @brief Largest stream payload (the frame's n-bytes: ids plus data) that fits one stream
+  /// period at the current baud rate, 10 bits a byte, less header, n-bytes and checksum: 83 bytes
+  /// for a Create at 57600 baud, 169 for a Create 2 at 115200 (15 ms); never over 255, the most
+  /// the n-bytes field can count.
+  size_t streamPayloadLimit() const;
   /// @brief Simulated time, s.
   double time() const { return time_; }
   /// @brief Wheel base in use, m.
@@ -123,6 +139,8 @@ private:
 
   int commandLength(size_t avail) const;
   void processInput();
+  void consumeInput(size_t n);
+  void refuse(const std::string& reason);
   void execute(const uint8_t* cmd, size_t len);
   void setMode(OiMode mode);
   void stopWheels();
@@ -150,6 +168,9 @@ private:
   Bytes frame_;
   Bytes pending_garbage_;
   Bytes script_;
+  size_t script_queued_ = 0;      // bytes at the front of input_ that a Play Script put there
+  bool executing_script_ = false;  // the command being executed came from a script
+  unsigned baud_;                  // as last set by Baud (the pty ignores it; it sizes the stream slot)
   std::vector<uint8_t> stream_ids_;
   bool stream_paused_ = false;
   double stream_phase_ = 0.0;
@@ -173,6 +194,8 @@ private:
   SensorState state_;
   double time_ = 0.0;
   uint64_t commands_ = 0, bytes_received_ = 0, bytes_sent_ = 0, frames_sent_ = 0, ignored_bytes_ = 0;
+  uint64_t refused_commands_ = 0;
+  std::string last_refusal_;
 };
 
 }  // namespace create_driver

@@ -240,6 +240,22 @@ private:
         while (pty_.isOpen() && (n = pty_.read(buf, sizeof(buf))) > 0)
           robot_->receive(buf, static_cast<size_t>(n));
         robot_->step(now - last);
+        if (robot_->refusedCommands() != refused_logged_)
+        {
+          // A client's command was refused (input or a script after a Wait): say why, at once for
+          // a new reason, throttled for a client that repeats itself.
+          refused_logged_ = robot_->refusedCommands();
+          const unsigned long long count = refused_logged_;
+          if (robot_->lastRefusal() != refusal_logged_)
+          {
+            refusal_logged_ = robot_->lastRefusal();
+            NODELET_WARN("create_sim: %s (%llu commands refused so far)", refusal_logged_.c_str(), count);
+          }
+          else
+          {
+            NODELET_WARN_THROTTLE(1.0, "create_sim: %s (%llu commands refused so far)", refusal_logged_.c_str(), count);
+          }
+        }
         last = now;
         out.clear();
         robot_->takeOutput(out);
@@ -303,6 +319,8 @@ private:
     s.bytes_received = robot_->bytesReceived();
     s.bytes_sent = robot_->bytesSent();
     s.commands = robot_->commands();
+    s.refused_commands = robot_->refusedCommands();
+    s.last_refusal = robot_->lastRefusal();
   }
 
   double rate_ = 200.0;
@@ -315,6 +333,8 @@ private:
   std::unique_ptr<SimRobot> robot_;
   Pty pty_;
   uint32_t pty_opens_ = 0;
+  uint64_t refused_logged_ = 0;  // refusals already logged
+  std::string refusal_logged_;   // the reason last logged
   bool reopen_requested_ = false;
   bool reopen_pending_ = false;
   double reopen_at_ = 0.0;

@@ -188,7 +188,25 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed, con
 {
   for (const auto& kv : node)
   {
-    const std::string key = kv.first.as<std::string>();
+    // A key such as `? :` (null) or `[1]` (a list) is not a name; as<std::string>() would throw a
+    // YAML::TypedBadConversion that names neither file nor key.
+    if (!kv.first.IsScalar())
+    {
+      std::string shown = "<empty key>";
+      if (!kv.first.IsNull())
+      {
+        // On one line whatever its style in the file (`? :` is the mapping {~: ~}).
+        YAML::Node key = YAML::Clone(kv.first);
+        key.SetStyle(YAML::EmitterStyle::Flow);
+        YAML::Emitter out;
+        out << key;
+        shown = out.c_str();
+      }
+      throw std::invalid_argument(prefix + shown + ": a key must be a name, not " +
+                                  (kv.first.IsNull() ? "empty" : "a list or a mapping") + " (line " +
+                                  std::to_string(kv.first.Mark().line + 1) + ")");
+    }
+    const std::string key = kv.first.Scalar();
     if (!allowed.count(key))
     {
       std::string list;
@@ -360,21 +378,10 @@ void parseObjectBody(const YAML::Node& node, SceneObject& o)
     o.floor = scalarValue<bool>(node["floor"], "floor");
   validateObject(o);
 }
-}  // namespace
 
-Scene parseScene(const std::string& text, const std::string& source)
+// Everything below the top-level mapping; throws SceneFileError naming the file and the key.
+Scene parseRoot(const YAML::Node& root, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw SceneFileError(source + ": not valid YAML: " + e.what());
-  }
-  if (!root || !root.IsMap())
-    throw SceneFileError(source + ": <top level>: must be a mapping with 'objects' (is the file empty?)");
   try
   {
     checkKeys(root, { "format_version", "name", "description", "objects" }, "");
@@ -434,6 +441,31 @@ Scene parseScene(const std::string& text, const std::string& source)
     }
   }
   return scene;
+}
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& source)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw SceneFileError(source + ": not valid YAML: " + e.what());
+  }
+  if (!root || !root.IsMap())
+    throw SceneFileError(source + ": <top level>: must be a mapping with 'objects' (is the file empty?)");
+  try
+  {
+    return parseRoot(root, source);
+  }
+  catch (const YAML::Exception& e)
+  {
+    // Backstop: every check names its key; a yaml-cpp error that slips through still names the file.
+    throw SceneFileError(source + ": " + e.what());
+  }
 }
 
 Scene loadScene(const std::string& path)

@@ -76,7 +76,8 @@ class Decoder
 public:
   /**
    * @brief Prepares the decoder for a rig.
-   * @throws std::invalid_argument for an invalid config, or a depth mode whose tables the rig lacks.
+   * @throws std::invalid_argument for an invalid config or rig (e.g. a camera over the image size
+   * limits of sl_projector/limits.h), or a depth mode whose tables the rig lacks.
    */
   Decoder(const sl_projector::Rig& rig, const DecoderConfig& config = DecoderConfig());
   ~Decoder();
@@ -125,6 +126,7 @@ private:
   std::vector<int32_t> grow_;   // (blob, candidate) pairs decoded in a growth round
   std::vector<int> sizes_w_, sizes_h_;  // box sizes of identified blobs, for the median
   int grid_w_ = 0, grid_h_ = 0;
+  size_t grid_cells_ = 0;  // grid_w_ * grid_h_, computed once in 64 bits
   double grid_cell_ = 1.0;
 };
 

@@ -29,7 +29,11 @@ namespace sl_decoder
 class EpipolarIndex
 {
 public:
-  /// @brief Builds the tables. @throws std::invalid_argument if the pattern is never visible.
+  /**
+   * @brief Builds the tables.
+   * @throws std::invalid_argument if the pattern is never visible, or the camera image is empty or
+   * larger than sl_projector::kMaxImagePixels (table sizes are computed in 64 bits and checked).
+   */
   EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& config);
 
   /// @brief Candidate primitive indices (row * cols + col) near pixel (u, v); a superset.
@@ -39,7 +43,7 @@ public:
     int by = static_cast<int>(v + 0.5f) >> kBlockShift;
     bx = bx < 0 ? 0 : (bx >= blocks_x_ ? blocks_x_ - 1 : bx);
     by = by < 0 ? 0 : (by >= blocks_y_ ? blocks_y_ - 1 : by);
-    const size_t b = static_cast<size_t>(by * blocks_x_ + bx);
+    const size_t b = static_cast<size_t>(by) * static_cast<size_t>(blocks_x_) + static_cast<size_t>(bx);
     begin = entries_.data() + block_start_[b];
     end = entries_.data() + block_start_[b + 1];
   }

@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "sl_projector/limits.h"
 #include "sl_projector/pattern_array.h"
 #include "sl_projector/word_table.h"
 
@@ -20,6 +21,9 @@ namespace sl_projector
  * the cell with the gap split evenly around it (left/top get the smaller half). The defaults are
  * the prototype's: 16 x 64 primitives of 5 x 9 px with 2 px / 6 px gaps (7 x 15 px cells), top-left
  * aligned in a 480 x 320 frame.
+ *
+ * Limits (validate()): the frame is at most kMaxImageSide px a side; primitive sizes, gaps and
+ * offsets are at most the frame's size, so cell sizes and positions always fit in int.
  */
 struct PatternConfig
 {
@@ -36,9 +40,9 @@ struct PatternConfig
   bool flip_x = false;        ///< mirror the frame left-right after layout (mounting)
   bool flip_y = false;        ///< mirror the frame top-bottom after layout (mounting)
 
-  /// @brief Cell width, px.
+  /// @brief Cell width, px (no overflow once validate() passed).
   int cellWidth() const { return primitive_width + gap_x; }
-  /// @brief Cell height, px.
+  /// @brief Cell height, px (no overflow once validate() passed).
   int cellHeight() const { return primitive_height + gap_y; }
 
   /**

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "sl_projector/limits.h"
 #include "sl_projector/pattern.h"
 
 namespace sl_projector
@@ -146,6 +147,9 @@ struct Rig
 
   /**
    * @brief Checks the rig for consistency.
+   *
+   * Camera and projector images must be at most kMaxImageSide px a side and kMaxImagePixels px in
+   * all (limits.h); the pattern as PatternConfig::validate().
    * @throws std::invalid_argument naming the offending key (e.g. "projector_pose.rotation").
    */
   void validate() const;
@@ -162,8 +166,9 @@ public:
 
 /**
  * @brief Loads a rig (calibration) file. See the README for the format.
- * @throws RigFileError if the file is missing, malformed or inconsistent; the message names the
- * file and the key.
+ * @throws RigFileError if the file is missing, malformed or inconsistent (also a key of the wrong
+ * YAML type, e.g. `mount: 1`); the message names the file and the key. No yaml-cpp exception
+ * escapes.
  */
 Rig loadRig(const std::string& path);
 

@@ -3,7 +3,8 @@
 
 catkin_test_results counts differently per file type (it adds up suite totals and failure
 elements), so the closing line is counted here from the <testcase> elements themselves.
-Prints the names of failed cases, the number of skipped ones (if any), and last the line
+Prints the names of failed cases with the first lines of their failure messages, the number of
+skipped ones (if any), and last the line
 "N passed, N failed" that CI reads.
 """
 import os
@@ -32,9 +33,15 @@ for dirpath, _, files in os.walk(root_dir):
             continue
         for case in cases:
             label = "%s.%s" % (case.get("classname", "?"), case.get("name", "?"))
-            if case.find("failure") is not None or case.find("error") is not None:
+            problem = case.find("failure")
+            if problem is None:
+                problem = case.find("error")
+            if problem is not None:
                 failed += 1
-                failures.append("%s: %s" % (os.path.relpath(path, root_dir), label))
+                # The assertion text, so that a CI log alone tells what failed.
+                detail = (problem.get("message") or problem.text or "").strip().splitlines()
+                failures.append("%s: %s%s" % (os.path.relpath(path, root_dir), label,
+                                              "".join("\n    " + line for line in detail[:12])))
             elif case.find("skipped") is not None or case.get("status") == "notrun":
                 skipped += 1
             else:

@@ -15,6 +15,14 @@ std::string Settings::validate() const
   {
     e = world.validate();
   }
+  if (e.empty())
+  {
+    e = filter.validate();
+  }
+  if (e.empty())
+  {
+    e = detail::inRange("teleop_hold", teleop_hold, 0.0, 60.0);
+  }
   if (!e.empty())
   {
     return e;

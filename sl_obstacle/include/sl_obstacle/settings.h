@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/safety_filter.h"
 #include "sl_obstacle/volume_checker.h"
 #include "sl_obstacle/world_model.h"
 
@@ -17,6 +18,8 @@ struct Settings
   CheckerParams checker;    ///< working volume, coverage, noise rejection
   DecisionParams decision;  ///< margins, speeds, turning, staleness
   WorldParams world;        ///< local map and path checks (its height band is the volume's)
+  FilterParams filter;      ///< safety filter for cmd_vel_in (footprint, margin, timeouts shared)
+  double teleop_hold = 2.0; ///< s a command on cmd_vel_in takes over from autonomy
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
   std::string validate() const;

@@ -1,10 +1,13 @@
-// The sl_obstacle/obstacle nodelet: ROS wrapper around the core (VolumeChecker, DecisionMaker).
+// The sl_obstacle/obstacle nodelet: ROS wrapper around the core (VolumeChecker, DecisionMaker,
+// WorldModel, SafetyFilter).
 //
 // Subscribes `points` (through a tf2 message filter into ~target_frame) for the immediate stop
 // check and, with ~use_map, `ray_ends` (through a filter into ~odom_frame) and `hazards` for the
 // local map (WorldModel); decides at the robot's current odometry pose. Publishes `obstacle_status`,
 // `markers` and `local_map`, commands the robot through create_driver's `drive_distance` action
-// and/or `cmd_vel`. All callbacks share one mutex; nothing blocks in onInit.
+// and/or `cmd_vel`. With the map, commands on `cmd_vel_in` (`cmd_vel_in_stamped`) pass through the
+// SafetyFilter: always in command_mode filter, otherwise for ~teleop_hold after each one (taking
+// over from autonomy). All callbacks share one mutex; nothing blocks in onInit.
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -15,6 +18,7 @@
 #include <actionlib/client/simple_action_client.h>
 #include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/Twist.h>
+#include <geometry_msgs/TwistStamped.h>
 #include <message_filters/subscriber.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -31,9 +35,11 @@
 #include <tf2/utils.h>
 
 #include "cloud_conversion.h"
+#include "filter_output.h"
 #include "params.h"
 #include "sl_obstacle/ObstacleStatus.h"
 #include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/safety_filter.h"
 #include "sl_obstacle/velocity_goal.h"
 #include "sl_obstacle/volume_checker.h"
 #include "sl_obstacle/world_model.h"
@@ -56,6 +62,16 @@ private:
   void onFilterFailure(const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason);
   void onRays(const Cloud::ConstPtr& cloud);
   void onHazards(const create_driver::Hazards& msg);
+  void onCommand(const geometry_msgs::Twist& msg);
+  void onStampedCommand(const geometry_msgs::TwistStamped& msg);
+  /// A command from cmd_vel_in given at @p stamp: takes over from autonomy (teleop_hold), filters.
+  void takeCommand(const geometry_msgs::Twist& twist, const ros::Time& stamp);
+  /// True while cmd_vel_in commands the robot (always in filter mode); ends a takeover when due.
+  bool teleopActive(const ros::Time& now);
+  /// One safety-filter step on the latest cmd_vel_in command. Caller holds mutex_.
+  void filterStep(const ros::Time& now);
+  /// Keeps the accepted obstacle points of @p cloud in the odom frame, for the filter.
+  void keepObstacles(const Cloud& cloud, const VolumeResult& result);
   /// Reads the robot's pose in the odom frame now; false (with localization_detail_) when unknown.
   bool updatePose(const ros::Time& now);
   void publishMap(const ros::Time& now);
@@ -69,7 +85,8 @@ private:
   void sendGoal(double distance, double speed);
   void cancelGoal();
   void publishTwist(double linear, double angular);
-  void publishStatus(const Decision& d, const ros::Time& now);
+  /// Publishes the status of decision @p d, or of the last filter step when @p d is null.
+  void publishStatus(const Decision* d, const ros::Time& now);
   void publishMarkers(const ros::Time& stamp);
 
   std::recursive_mutex mutex_;
@@ -119,6 +136,19 @@ private:
 
   ObstacleStatus status_;
   visualization_msgs::MarkerArray markers_;
+
+  // Safety filter (with the map): the latest cmd_vel_in command and the cloud's obstacles.
+  std::unique_ptr<SafetyFilter> filter_;
+  ros::Subscriber command_sub_;
+  ros::Subscriber stamped_command_sub_;
+  geometry_msgs::Twist command_;
+  ros::Time command_time_;
+  bool have_command_ = false;
+  ros::Time teleop_until_;
+  bool teleop_active_ = false;
+  std::vector<Point2> obstacles_odom_;   // the latest cloud's accepted obstacle points in odom
+  std::vector<Point2> obstacles_robot_;  // ... in the robot's frame now
+  FilterOutput filter_out_;
 };
 
 ObstacleNodelet::~ObstacleNodelet()
@@ -178,6 +208,9 @@ void ObstacleNodelet::onInit()
     rays_filter_->registerCallback(&ObstacleNodelet::onRays, this);
     rays_filter_->registerFailureCallback(
         [this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason) { onFilterFailure(cloud, reason); });
+    filter_ = std::make_unique<SafetyFilter>(params_.settings.filter);
+    command_sub_ = nh_.subscribe("cmd_vel_in", 1, &ObstacleNodelet::onCommand, this);
+    stamped_command_sub_ = nh_.subscribe("cmd_vel_in_stamped", 1, &ObstacleNodelet::onStampedCommand, this);
   }
 
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ObstacleConfig>>(reconfigure_mutex_, pnh_);
@@ -185,10 +218,13 @@ void ObstacleNodelet::onInit()
   reconfigure_ready_ = true;
 
   timer_ = nh_.createTimer(ros::Duration(1.0 / params_.control_rate), &ObstacleNodelet::onTimer, this);
-  NODELET_INFO("obstacle: volume W %.3f x H %.3f x B %.3f m in %s, command_mode %s",
+  NODELET_INFO("obstacle: volume W %.3f x H %.3f x B %.3f m in %s, command_mode %s%s",
                params_.settings.checker.volume.width, params_.settings.checker.volume.height,
                params_.settings.checker.volume.depth, params_.target_frame.c_str(),
-               params_.command_mode == CommandMode::ACTION ? "action" : "cmd_vel");
+               params_.command_mode == CommandMode::ACTION    ? "action"
+               : params_.command_mode == CommandMode::CMD_VEL ? "cmd_vel"
+                                                              : "filter",
+               filter_ ? ", cmd_vel_in filtered" : " (no map: cmd_vel_in ignored)");
 }
 
 void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
@@ -219,6 +255,10 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
     world_ = std::make_unique<WorldModel>(settings.world);
     NODELET_WARN("map parameters changed: the local map starts empty");
   }
+  if (filter_)
+  {
+    filter_ = std::make_unique<SafetyFilter>(settings.filter);
+  }
   status_.sector_free_distance.resize(static_cast<std::size_t>(settings.checker.sectors));
   config_ = config;
   params_.config = config;
@@ -228,6 +268,11 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
 
 void ObstacleNodelet::onCloud(const Cloud::ConstPtr& cloud)
 {
+  if (cloud->header.stamp.isZero())
+  {
+    NODELET_WARN_THROTTLE(2.0, "refusing a cloud without a stamp (header.stamp 0): its age is unknown");
+    return;
+  }
   if (cloud->header.frame_id == params_.target_frame)
   {
     processCloud(cloud);  // already in the working-volume frame: no transform needed
@@ -281,6 +326,10 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   last_points_ = cloud;
   const VolumeResult& result = checker_->analyze(points_);
   cloud_contact_ = contactTravel(points_, result.obstacle_indices, params_.settings.world.footprint.radius);
+  if (filter_)
+  {
+    keepObstacles(*cloud, result);
+  }
   if (result.invalid_points > 0)
   {
     NODELET_WARN_THROTTLE(10.0, "cloud has %u points with NaN/inf coordinates (ignored)", result.invalid_points);
@@ -295,6 +344,11 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
 void ObstacleNodelet::onRays(const Cloud::ConstPtr& cloud)
 {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
+  if (cloud->header.stamp.isZero())
+  {
+    NODELET_WARN_THROTTLE(2.0, "refusing a ray cloud without a stamp (header.stamp 0)");
+    return;
+  }
   geometry_msgs::Transform to_odom;
   try
   {
@@ -356,6 +410,123 @@ bool ObstacleNodelet::updatePose(const ros::Time& now)
   pose_.y = t.transform.translation.y;
   pose_.yaw = tf2::getYaw(t.transform.rotation);
   return localized_ = true;
+}
+
+void ObstacleNodelet::keepObstacles(const Cloud& cloud, const VolumeResult& result)
+{
+  obstacles_odom_.clear();
+  geometry_msgs::TransformStamped t;
+  try
+  {
+    // The cloud's frame was resolved at its stamp by the message filter: no waiting here.
+    t = tf_buffer_->lookupTransform(params_.odom_frame, params_.target_frame, cloud.header.stamp);
+  }
+  catch (const tf2::TransformException& e)
+  {
+    NODELET_WARN_THROTTLE(5.0, "filter uses the map only: %s", e.what());
+    return;
+  }
+  const double yaw = tf2::getYaw(t.transform.rotation);
+  const double c = std::cos(yaw);
+  const double s = std::sin(yaw);
+  for (const std::uint32_t i : result.obstacle_indices)
+  {
+    const double x = points_[i].x;
+    const double y = points_[i].y;
+    obstacles_odom_.push_back(
+        Point2{ t.transform.translation.x + c * x - s * y, t.transform.translation.y + s * x + c * y });
+  }
+}
+
+void ObstacleNodelet::onCommand(const geometry_msgs::Twist& msg)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  takeCommand(msg, ros::Time::now());
+}
+
+void ObstacleNodelet::onStampedCommand(const geometry_msgs::TwistStamped& msg)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  if (msg.header.stamp.isZero())
+  {
+    NODELET_WARN_THROTTLE(2.0, "refusing a cmd_vel_in_stamped command without a stamp (header.stamp 0)");
+    return;
+  }
+  takeCommand(msg.twist, std::min(msg.header.stamp, ros::Time::now()));
+}
+
+void ObstacleNodelet::takeCommand(const geometry_msgs::Twist& twist, const ros::Time& stamp)
+{
+  const ros::Time now = ros::Time::now();
+  if (!std::isfinite(twist.linear.x) || !std::isfinite(twist.angular.z))
+  {
+    NODELET_WARN_THROTTLE(2.0, "cmd_vel_in: refusing a command with NaN or inf (linear.x %g, angular.z %g): stopped",
+                          twist.linear.x, twist.angular.z);
+  }
+  command_ = twist;
+  command_time_ = stamp;
+  have_command_ = true;
+  if (params_.command_mode != CommandMode::FILTER)
+  {
+    if (!teleop_active_)
+    {
+      cancelGoal();
+      velocity_goal_.stop();
+      NODELET_INFO("cmd_vel_in takes over from autonomy (for %.1f s after the last command)",
+                   params_.settings.teleop_hold);
+    }
+    teleop_until_ = now + ros::Duration(params_.settings.teleop_hold);
+  }
+  decide(now);
+}
+
+bool ObstacleNodelet::teleopActive(const ros::Time& now)
+{
+  if (!filter_)
+  {
+    return false;
+  }
+  const bool active = params_.command_mode == CommandMode::FILTER || (have_command_ && now < teleop_until_);
+  if (teleop_active_ && !active)
+  {
+    decider_->reset();  // it plans anew from here: the robot moved under teleoperation
+    if (moving_)
+    {
+      publishTwist(0.0, 0.0);
+    }
+    NODELET_INFO("cmd_vel_in quiet for %.1f s: autonomy resumes", params_.settings.teleop_hold);
+  }
+  teleop_active_ = active;
+  return active;
+}
+
+void ObstacleNodelet::filterStep(const ros::Time& now)
+{
+  FilterInput in;
+  in.now = now.toSec();
+  in.command = Velocity{ command_.linear.x, command_.angular.z };
+  in.command_time = have_command_ ? command_time_.toSec() : -std::numeric_limits<double>::infinity();
+  in.localized = localized_;
+  in.pose = pose_;
+  in.cloud_time = have_frame_ ? last_cloud_stamp_.toSec() : -std::numeric_limits<double>::infinity();
+  // The cloud's obstacles (static) seen from where the robot is now.
+  const double c = std::cos(pose_.yaw);
+  const double s = std::sin(pose_.yaw);
+  obstacles_robot_.clear();
+  for (const Point2& p : obstacles_odom_)
+  {
+    const double dx = p.x - pose_.x;
+    const double dy = p.y - pose_.y;
+    obstacles_robot_.push_back(Point2{ c * dx + s * dy, -s * dx + c * dy });
+  }
+  in.obstacles = &obstacles_robot_;
+  filter_out_ = filter_->filter(world_->map(), in);
+  const Velocity& v = filter_out_.command;
+  if (v.linear != 0.0 || v.angular != 0.0 || moving_)
+  {
+    publishTwist(v.linear, v.angular);
+  }
+  publishStatus(nullptr, now);
 }
 
 void ObstacleNodelet::publishMap(const ros::Time& now)
@@ -426,6 +597,11 @@ void ObstacleNodelet::decide(const ros::Time& now)
   {
     world_->updatePose(pose_, now.toSec());
   }
+  if (teleopActive(now))
+  {
+    filterStep(now);
+    return;
+  }
   if (have_frame_)
   {
     FrameSummary cloud = summarize(checker_->result(), last_cloud_stamp_.toSec());
@@ -439,7 +615,7 @@ void ObstacleNodelet::decide(const ros::Time& now)
   }
   const Decision& d = decider_->step(now.toSec(), motion());
   execute(d, now);
-  publishStatus(d, now);
+  publishStatus(&d, now);
 }
 
 void ObstacleNodelet::execute(const Decision& d, const ros::Time& now)
@@ -568,7 +744,7 @@ void ObstacleNodelet::publishTwist(double linear, double angular)
   moving_ = linear != 0.0 || angular != 0.0;
 }
 
-void ObstacleNodelet::publishStatus(const Decision& d, const ros::Time& now)
+void ObstacleNodelet::publishStatus(const Decision* d, const ros::Time& now)
 {
   ObstacleStatus& s = status_;
   s.header.stamp = now;
@@ -583,10 +759,6 @@ void ObstacleNodelet::publishStatus(const Decision& d, const ros::Time& now)
     s.cloud_stamp = ros::Time();
     s.data_age = std::numeric_limits<double>::infinity();
   }
-  s.state = static_cast<uint8_t>(d.state);
-  s.reason_code = static_cast<uint8_t>(d.reason);
-  s.reason = d.text;
-  s.blocked = d.blocked;
   const VolumeResult& r = checker_->result();
   s.nearest_distance = have_frame_ ? r.nearest_distance : std::numeric_limits<double>::infinity();
   s.nearest_point.x = r.nearest_point.x;
@@ -609,10 +781,25 @@ void ObstacleNodelet::publishStatus(const Decision& d, const ros::Time& now)
   s.map_known_fraction = static_cast<float>(mapped ? f.coverage : 0.0);
   s.reverse_free_distance = mapped ? f.reverse_free : 0.0;
   s.best_turn = mapped ? f.best_turn : 0.0;
-  s.command = static_cast<uint8_t>(d.command);
-  s.command_distance = d.distance;
-  s.command_speed = d.speed;
-  s.command_angular_speed = d.angular_speed;
+  if (d != nullptr)
+  {
+    s.state = static_cast<uint8_t>(d->state);
+    s.reason_code = static_cast<uint8_t>(d->reason);
+    s.reason = d->text;
+    s.blocked = d->blocked;
+    s.teleop = false;
+    s.input_linear = s.input_angular = 0.0;
+    s.command_scale = 1.0;
+    s.command = static_cast<uint8_t>(d->command);
+    s.command_distance = d->distance;
+    s.command_speed = d->speed;
+    s.command_angular_speed = d->angular_speed;
+  }
+  else
+  {
+    Velocity input{ command_.linear.x, command_.angular.z };
+    fillFilterStatus(filter_out_, input, s);
+  }
   status_pub_.publish(s);
 }
 
@@ -643,8 +830,8 @@ void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
   using visualization_msgs::Marker;
   const VolumeResult& r = checker_->result();
   const WorkingVolume& v = params_.settings.checker.volume;
-  const bool blocked = decider_->last().blocked;
-  markers_.markers.resize(5);
+  const bool blocked = teleop_active_ ? filter_out_.reason == FilterReason::STOPPED_OBSTACLE : decider_->last().blocked;
+  markers_.markers.resize(6);
   for (Marker& m : markers_.markers)
   {
     m.header.frame_id = params_.target_frame;
@@ -735,6 +922,13 @@ void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
     free.points.push_back(point(s.free_distance, s.y_min, 0.0));
     free.points.push_back(point(s.free_distance, s.y_max, 0.0));
   }
+  // The footprint the filtered command sweeps before it must stop (map frame).
+  Marker& footprint = markers_.markers[5];
+  footprint.ns = "footprint";
+  footprint.header.frame_id = params_.odom_frame;
+  footprint.header.stamp = ros::Time::now();
+  footprint.action = teleop_active_ && localized_ ? Marker::ADD : Marker::DELETE;
+  footprintMarker(filter_out_, pose_, params_.settings.filter.footprint.radius, footprint);
   for (Marker& m : markers_.markers)
   {
     if (m.type == Marker::POINTS && m.points.empty())

@@ -113,6 +113,14 @@ Settings toSettings(const ObstacleConfig& c)
   w.check_distance = c.check_distance;
   w.heading_step = c.turn_angle;
   w.headings = c.headings;
+  FilterParams& f = s.filter;
+  f.footprint = w.footprint;
+  f.clearance = c.safety_margin;
+  f.deceleration = c.deceleration;
+  f.horizon = c.check_distance;
+  f.input_timeout = c.input_timeout;
+  f.stale_timeout = c.stale_timeout;
+  s.teleop_hold = c.teleop_hold;
   return s;
 }
 
@@ -184,7 +192,8 @@ NodeletParams loadParams(const ros::NodeHandle& pnh)
   readFrame(pnh, "odom_frame", p.odom_frame);
   readFrame(pnh, "robot_frame", p.robot_frame);
   std::string mode = "action";
-  pnh.param("command_mode", mode, mode);
+  checkType(pnh, "command_mode", "str");
+  pnh.getParam("command_mode", mode);
   if (mode == "action")
   {
     p.command_mode = CommandMode::ACTION;
@@ -193,11 +202,16 @@ NodeletParams loadParams(const ros::NodeHandle& pnh)
   {
     p.command_mode = CommandMode::CMD_VEL;
   }
+  else if (mode == "filter")
+  {
+    p.command_mode = CommandMode::FILTER;
+  }
   else
   {
-    fail("command_mode must be \"action\" or \"cmd_vel\" (got \"" + mode + "\")");
+    fail("command_mode must be \"action\", \"cmd_vel\" or \"filter\" (got \"" + mode + "\")");
   }
-  pnh.param("control_rate", p.control_rate, p.control_rate);
+  checkType(pnh, "control_rate", "double");
+  pnh.getParam("control_rate", p.control_rate);
   if (!(p.control_rate >= 1.0 && p.control_rate <= 100.0))
   {
     std::ostringstream s;
@@ -218,6 +232,10 @@ NodeletParams loadParams(const ros::NodeHandle& pnh)
     fail(e);
   }
   p.settings = toSettings(p.config);
+  if (p.command_mode == CommandMode::FILTER && !p.config.use_map)
+  {
+    fail("command_mode filter needs use_map true (the filter checks paths on the local map)");
+  }
   return p;
 }
 }  // namespace sl_obstacle

@@ -15,7 +15,8 @@ namespace sl_obstacle
 enum class CommandMode
 {
   ACTION,  ///< drive_distance goals (create_driver/DriveDistance); turns via cmd_vel
-  CMD_VEL  ///< cmd_vel only (forward goals run open loop)
+  CMD_VEL, ///< cmd_vel only (forward goals run open loop)
+  FILTER   ///< no autonomy: cmd_vel_in passed through the safety filter to cmd_vel
 };
 
 /// Everything the nodelet reads from its private namespace.
@@ -24,7 +25,7 @@ struct NodeletParams
   std::string target_frame = "platform_edge";  ///< ~target_frame: frame of the working volume
   std::string odom_frame = "odom";             ///< ~odom_frame: frame the local map is kept in
   std::string robot_frame = "base_link";       ///< ~robot_frame: centre of the robot's disc
-  CommandMode command_mode = CommandMode::ACTION;  ///< ~command_mode: "action" or "cmd_vel"
+  CommandMode command_mode = CommandMode::ACTION;  ///< ~command_mode: "action", "cmd_vel" or "filter"
   double control_rate = 10.0;  ///< ~control_rate: decision steps per second without clouds (Hz)
   ObstacleConfig config;       ///< the reconfigurable parameters (same names as in Obstacle.cfg)
   Settings settings;           ///< config converted to the core's parameter structs

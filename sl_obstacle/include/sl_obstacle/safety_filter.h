@@ -1,0 +1,151 @@
+/// @file safety_filter.h
+/// @brief Limits a velocity command (teleoperation or any planner) to what stops before obstacles
+/// and unknown space on its arc: v <= sqrt(2 a d) (doc/world_model.md, section 4). ROS-free.
+#ifndef SL_OBSTACLE_SAFETY_FILTER_H
+#define SL_OBSTACLE_SAFETY_FILTER_H
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "sl_obstacle/local_map.h"
+#include "sl_obstacle/path_checker.h"
+#include "sl_obstacle/world_model.h"
+
+namespace sl_obstacle
+{
+/// A planar point (m).
+struct Point2
+{
+  double x = 0.0;
+  double y = 0.0;
+};
+
+/// A velocity command: forward speed (m/s, negative backwards) and turn rate (rad/s, positive left).
+struct Velocity
+{
+  double linear = 0.0;
+  double angular = 0.0;
+};
+
+/// Parameters of the safety filter. validate() names the ROS parameter of a bad value.
+struct FilterParams
+{
+  FootprintParams footprint;  ///< the robot's disc and the lateral margin of its swept path
+  double clearance = 0.15;    ///< m kept between the disc and obstacles or unknown space (safety_margin)
+  double deceleration = 0.25; ///< a in v <= sqrt(2 a d) (m/s^2); 0: stop only at d = 0
+  double horizon = 1.5;       ///< m, the longest arc checked (check_distance)
+  double input_timeout = 0.5; ///< s without a command before the robot stops
+  double stale_timeout = 0.5; ///< s without a fresh cloud before forward motion stops
+
+  /// @return empty when valid, else a message starting with the offending parameter's name.
+  std::string validate() const;
+};
+
+/// Why the filter gave its output.
+enum class FilterReason : std::uint8_t
+{
+  PASSED,            ///< the command is safe as it is (or it only turns in place)
+  LIMITED,           ///< forward or reverse speed scaled down to stop within the known-free arc
+  STOPPED_OBSTACLE,  ///< no travel left on the arc (obstacle or unknown space within clearance)
+  INPUT_TIMEOUT,     ///< no command within input_timeout (or none yet)
+  STALE_DATA,        ///< no fresh cloud: forward motion stopped (turning and reverse still pass)
+  NO_ODOMETRY,       ///< the robot's pose is unknown: stopped
+  INVALID_COMMAND    ///< a NaN or inf component: stopped
+};
+
+/// Short upper-case name of a reason, e.g. "LIMITED".
+const char* toString(FilterReason reason);
+
+/// Travel along an arc until the swept disc meets cells that are not free (see sweepArc()).
+struct ArcResult
+{
+  double free = 0.0;  ///< m: first cell that is not free (or the length checked)
+  double obstacle = std::numeric_limits<double>::infinity();  ///< m: first occupied cell
+  double unknown = std::numeric_limits<double>::infinity();   ///< m: first unknown cell
+};
+
+/**
+ * @brief Sweeps a disc of @p radius along the arc driven with constant (v, w) from @p pose.
+ *
+ * The arc turns by @p curvature rad per metre of travel (w / |v|, positive left), moving forward
+ * (@p direction +1) or backwards (-1). Cells under the disc at the start are not counted (the robot
+ * is there, so it may always leave). A straight arc (|curvature| * length < 1e-4) is swept exactly by
+ * sweepStraight(); a curved one is sampled every quarter cell, a cell counting from the sample
+ * before the one whose disc first holds its centre (early, never late).
+ * @throws std::invalid_argument for direction other than +-1 or non-finite input
+ */
+ArcResult sweepArc(const LocalMap& map, double radius, const Pose2D& pose, int direction, double curvature,
+                   double length, double now);
+
+/**
+ * @brief Travel along the same arc until a disc of @p radius first touches one of @p points
+ * (given in the robot's frame: x forward, y left, origin at the disc's centre); exact, by the
+ * geometry of two circles. A point already under the disc counts as contact at 0 if it lies ahead
+ * of the motion, and is ignored if the motion leaves it. +inf if none within @p length.
+ */
+double arcContact(const std::vector<Point2>& points, double radius, int direction, double curvature,
+                  double length);
+
+/// What the filter knows at one step.
+struct FilterInput
+{
+  double now = 0.0;            ///< s
+  Velocity command;            ///< the requested command
+  double command_time = -std::numeric_limits<double>::infinity();  ///< s, when it was given
+  bool localized = false;      ///< pose is the robot's current pose
+  Pose2D pose;                 ///< base_link in the map's frame, now
+  double cloud_time = -std::numeric_limits<double>::infinity();    ///< s, capture time of the newest cloud
+  /// The newest cloud's obstacle points in the robot's frame now (exact distances; may be empty).
+  const std::vector<Point2>* obstacles = nullptr;
+};
+
+/// The filter's answer.
+struct FilterOutput
+{
+  Velocity command;            ///< what to send to the driver
+  FilterReason reason = FilterReason::INPUT_TIMEOUT;
+  double scale = 0.0;          ///< |output linear| / |requested linear| (1 when nothing moves forward)
+  double travel = 0.0;         ///< m: known-free travel on the output's arc less the clearance
+  double speed_limit = 0.0;    ///< m/s: sqrt(2 a travel) (inf with a = 0 and travel > 0)
+  double curvature = 0.0;      ///< rad/m of the output's arc (0 for a straight line or no motion)
+  std::string text;            ///< a sentence with the numbers
+};
+
+/**
+ * @brief The safety filter: for each command, the swept footprint along its arc is checked on the
+ * local map (and against the newest cloud's obstacle points, whose distances are exact) and the
+ * speed is limited to v <= sqrt(2 a d), d the known-free travel less the clearance.
+ *
+ * Turning in place sweeps nothing new and always passes (unless stopped for timeout, bad input or
+ * missing odometry). Reverse motion is checked on the map only (the camera looks ahead): the robot's
+ * trail is free. A limited command keeps its turn rate: the speed is lowered until the tighter arc
+ * it then drives is safe too, down to turning in place, so turning away from an obstacle stays
+ * possible.
+ */
+class SafetyFilter
+{
+public:
+  /// @throws std::invalid_argument for invalid parameters.
+  explicit SafetyFilter(const FilterParams& params = FilterParams());
+
+  /// The parameters in use.
+  const FilterParams& params() const { return params_; }
+
+  /// Filters one command on @p map (in the frame of FilterInput::pose).
+  FilterOutput filter(const LocalMap& map, const FilterInput& in) const;
+
+  /// Known-free travel (m, less the clearance; may be negative) on the arc of (v, w) from the
+  /// input's pose, checked up to @p length.
+  double travel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const;
+
+private:
+  /// The largest speed <= |v| (same sign) that stops within the travel of its own arc with w.
+  double limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out) const;
+
+  FilterParams params_;
+};
+}  // namespace sl_obstacle
+
+#endif  // SL_OBSTACLE_SAFETY_FILTER_H

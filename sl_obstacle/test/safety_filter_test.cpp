@@ -1,0 +1,345 @@
+// Tests of the safety filter (SafetyFilter, sweepArc, arcContact) on given local maps: the speed
+// limit v <= sqrt(2 a d) as a formula, arcs that graze a leg, turning in place, reverse along the
+// trail, the blind near field after a turn, timeouts and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "sl_obstacle/safety_filter.h"
+
+namespace sl_obstacle
+{
+namespace
+{
+constexpr double kRes = 0.02;
+constexpr double kBody = 0.1675;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Rays along x from x0 to x1 in both height slices, every half cell across [y0, y1].
+void insertRect(LocalMap& map, float x0, float x1, float y0, float y1, RayKind kind)
+{
+  std::vector<MapRay> rays;
+  for (float y = y0; y <= y1; y += 0.5F * static_cast<float>(kRes))
+  {
+    rays.push_back(MapRay{ x0, y, 0.05F, x1, y, 0.05F, kind });
+    rays.push_back(MapRay{ x0, y, 0.13F, x1, y, 0.13F, kind });
+  }
+  map.insert(rays, 0.0);
+}
+
+/// Free space from x0 to a wall of decoded points at wall_x, |y| <= half.
+void wallMap(LocalMap& map, double wall_x, double half = 0.6)
+{
+  insertRect(map, -0.4F, static_cast<float>(wall_x), static_cast<float>(-half), static_cast<float>(half),
+             RayKind::Hit);
+}
+
+/// The wall as the cloud sees it: points on x = wall_x every 5 mm, in the robot's frame at robot_x.
+std::vector<Point2> wallPoints(double wall_x, double robot_x)
+{
+  std::vector<Point2> points;
+  for (double y = -0.3; y <= 0.3; y += 0.005)
+  {
+    points.push_back(Point2{ wall_x - robot_x, y });
+  }
+  return points;
+}
+
+FilterInput inputAt(double x, double y, double yaw, double v, double w)
+{
+  FilterInput in;
+  in.now = 0.0;
+  in.command = Velocity{ v, w };
+  in.command_time = 0.0;
+  in.localized = true;
+  in.pose = Pose2D{ x, y, yaw };
+  in.cloud_time = 0.0;
+  return in;
+}
+
+/// Brute force: travel until a disc of radius r on the arc touches a point (1 mm steps).
+double sampledContact(const std::vector<Point2>& pts, double r, int dir, double k, double length)
+{
+  for (double s = 0.0; s <= length; s += 0.001)
+  {
+    const double cx = std::abs(k) < 1e-12 ? dir * s : dir * std::sin(k * s) / k;
+    const double cy = std::abs(k) < 1e-12 ? 0.0 : dir * (1.0 - std::cos(k * s)) / k;
+    for (const Point2& p : pts)
+    {
+      if (std::hypot(p.x - cx, p.y - cy) <= r)
+      {
+        return s;
+      }
+    }
+  }
+  return kInf;
+}
+
+TEST(SafetyFilter, StraightAtAWallFollowsTheStoppingFormula)
+{
+  LocalMap map{ MapParams() };
+  wallMap(map, 1.4);
+  FilterParams p;
+  p.clearance = 0.40;
+  const SafetyFilter filter(p);
+  for (double x = 0.0; x <= 0.9; x += 0.05)
+  {
+    const std::vector<Point2> wall = wallPoints(1.4, x);
+    FilterInput in = inputAt(x, 0.0, 0.0, 0.3, 0.0);
+    in.obstacles = &wall;
+    const FilterOutput out = filter.filter(map, in);
+    const double d = 1.4 - x - kBody - p.clearance;  // travel left before the clearance
+    const double expected = d > 0.0 ? std::min(0.3, std::sqrt(2.0 * p.deceleration * d)) : 0.0;
+    EXPECT_NEAR(out.command.linear, expected, 1e-6) << "at x " << x;
+    if (d <= 0.2)  // the arc is checked up to the stopping distance at 0.3 m/s plus the clearance
+    {
+      EXPECT_NEAR(out.travel, d, 1e-6) << "at x " << x;
+    }
+    EXPECT_NEAR(out.scale, expected / 0.3, 1e-6);
+    EXPECT_EQ(out.reason, expected == 0.3   ? FilterReason::PASSED :
+                          expected > 0.0    ? FilterReason::LIMITED :
+                                              FilterReason::STOPPED_OBSTACLE)
+        << "at x " << x;
+  }
+}
+
+TEST(SafetyFilter, WithoutTheCloudTheMapStopsEarlyNeverLate)
+{
+  LocalMap map{ MapParams() };
+  wallMap(map, 1.4);
+  const SafetyFilter filter;
+  for (double x = 0.9; x <= 1.1; x += 0.02)
+  {
+    const FilterOutput out = filter.filter(map, inputAt(x, 0.0, 0.0, 0.3, 0.0));
+    const double d = 1.4 - x - kBody - filter.params().clearance;
+    EXPECT_LE(out.travel, d + 1e-9) << "at x " << x;
+    EXPECT_GE(out.travel, d - 2.5 * kRes) << "at x " << x;
+  }
+}
+
+TEST(SafetyFilter, AnArcThatGrazesALegIsSlowedByTheLegNotByTheWall)
+{
+  LocalMap map{ MapParams() };
+  insertRect(map, -0.4F, 2.0F, -0.8F, 1.2F, RayKind::Free);
+  insertRect(map, 1.6F, 1.62F, -0.8F, 1.2F, RayKind::Hit);  // a wall 1.6 m ahead
+  map.markOccupiedDisc(0.61, 0.31, 0.011, 0.0);  // a 20 mm leg beside the straight path
+  const std::vector<Point2> leg{ { 0.61, 0.31 } };
+  FilterParams p;
+  p.clearance = 0.40;
+  const SafetyFilter filter(p);
+  // Straight on, the leg stays outside the swept path: only the wall, far away, limits.
+  FilterInput straight = inputAt(0.0, 0.0, 0.0, 0.3, 0.0);
+  straight.obstacles = &leg;
+  const FilterOutput s = filter.filter(map, straight);
+  EXPECT_EQ(s.reason, FilterReason::PASSED);
+  // Curving left at 0.8 rad/m the disc meets the leg after about 0.55 m, long before the wall: the
+  // leg sets the limit, on the (tighter) arc actually driven.
+  FilterInput arc = inputAt(0.0, 0.0, 0.0, 0.4, 0.32);
+  arc.obstacles = &leg;
+  EXPECT_LT(arcContact(leg, kBody, 1, 0.8, 2.0), 0.7);
+  const FilterOutput a = filter.filter(map, arc);
+  EXPECT_EQ(a.reason, FilterReason::LIMITED);
+  EXPECT_GT(a.command.linear, 0.0);
+  EXPECT_LT(a.command.linear, 0.4);
+  EXPECT_DOUBLE_EQ(a.command.angular, 0.32);
+  EXPECT_NEAR(a.curvature, 0.32 / a.command.linear, 1e-9);
+  // The swept disc (with the lateral margin) reaches the leg's cell first; the sweep reports it up
+  // to a quarter cell early.
+  const double contact = arcContact(leg, p.footprint.sweptRadius(), 1, a.curvature, 2.0);
+  ASSERT_LT(contact, 1.0);
+  EXPECT_LE(a.travel, contact - p.clearance + 1e-9);
+  EXPECT_GE(a.travel, contact - p.clearance - 0.25 * kRes - 1e-9);
+  EXPECT_LE(a.command.linear, std::sqrt(2.0 * 0.25 * a.travel) + 1e-9);
+}
+
+TEST(SafetyFilter, TurningInPlacePassesEvenAgainstAnObstacle)
+{
+  LocalMap map{ MapParams() };
+  wallMap(map, 0.25);  // the wall 0.08 m in front of the disc: well within the clearance
+  const std::vector<Point2> wall = wallPoints(0.25, 0.0);
+  const SafetyFilter filter;
+  FilterInput in = inputAt(0.0, 0.0, 0.0, 0.0, 1.0);
+  in.obstacles = &wall;
+  FilterOutput out = filter.filter(map, in);
+  EXPECT_EQ(out.reason, FilterReason::PASSED);
+  EXPECT_DOUBLE_EQ(out.command.angular, 1.0);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+  // Forward into it: no forward speed, the turn still passes.
+  in.command = Velocity{ 0.2, 0.8 };
+  out = filter.filter(map, in);
+  EXPECT_EQ(out.reason, FilterReason::STOPPED_OBSTACLE);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+  EXPECT_DOUBLE_EQ(out.command.angular, 0.8);
+  EXPECT_DOUBLE_EQ(out.scale, 0.0);
+}
+
+TEST(SafetyFilter, ReverseAlongTheTrailPassesAndIntoTheUnknownStops)
+{
+  LocalMap map{ MapParams() };
+  const SafetyFilter filter;
+  // Nothing known behind: reverse is refused.
+  FilterOutput out = filter.filter(map, inputAt(0.0, 0.0, 0.0, -0.1, 0.0));
+  EXPECT_EQ(out.reason, FilterReason::STOPPED_OBSTACLE);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+  // The robot came from x = -1.2: its trail (the swept radius plus half a cell) is free.
+  for (double x = -1.2; x <= 0.0; x += 0.01)
+  {
+    map.markFreeDisc(x, 0.0, filter.params().footprint.sweptRadius() + 0.5 * kRes, 0.0);
+  }
+  out = filter.filter(map, inputAt(0.0, 0.0, 0.0, -0.1, 0.0));
+  EXPECT_EQ(out.reason, FilterReason::PASSED);
+  EXPECT_DOUBLE_EQ(out.command.linear, -0.1);
+  // Faster backwards than the trail allows: limited by sqrt(2 a d).
+  out = filter.filter(map, inputAt(-0.8, 0.0, 0.0, -0.4, 0.0));
+  EXPECT_EQ(out.reason, FilterReason::LIMITED);
+  EXPECT_LT(out.command.linear, 0.0);
+  EXPECT_NEAR(out.command.linear, -std::sqrt(2.0 * 0.25 * out.travel), 1e-9);
+  // The trail's end cap (0.1975 around x = -1.2) holds the swept disc (0.1875) 0.41 m back.
+  EXPECT_NEAR(out.travel, 0.41 - filter.params().clearance, 0.03);
+}
+
+TEST(SafetyFilter, UnknownNearFieldAfterATurnGivesNoForwardSpeed)
+{
+  LocalMap map{ MapParams() };
+  // The robot saw the strip straight ahead (from farther back) and its own start area; the near
+  // field toward 60 degrees to the left was never seen.
+  insertRect(map, 0.0F, 1.5F, -0.3F, 0.3F, RayKind::Free);
+  map.markFreeDisc(0.0, 0.0, 0.2, 0.0);
+  const SafetyFilter filter;
+  const FilterOutput out = filter.filter(map, inputAt(0.0, 0.0, M_PI / 3.0, 0.2, 0.3));
+  EXPECT_EQ(out.reason, FilterReason::STOPPED_OBSTACLE);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+  EXPECT_DOUBLE_EQ(out.command.angular, 0.3);
+  // Straight ahead, where it looked, it may drive.
+  EXPECT_GT(filter.filter(map, inputAt(0.0, 0.0, 0.0, 0.2, 0.0)).command.linear, 0.0);
+}
+
+TEST(SafetyFilter, NanOrInfComponentsAreRefused)
+{
+  LocalMap map{ MapParams() };
+  insertRect(map, -0.4F, 2.0F, -0.8F, 0.8F, RayKind::Free);
+  const SafetyFilter filter;
+  const double bad[] = { std::nan(""), kInf, -kInf };
+  for (const double b : bad)
+  {
+    for (const Velocity v : { Velocity{ b, 0.0 }, Velocity{ 0.1, b } })
+    {
+      FilterInput in = inputAt(0.0, 0.0, 0.0, v.linear, v.angular);
+      const FilterOutput out = filter.filter(map, in);
+      EXPECT_EQ(out.reason, FilterReason::INVALID_COMMAND);
+      EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+      EXPECT_DOUBLE_EQ(out.command.angular, 0.0);
+    }
+  }
+}
+
+TEST(SafetyFilter, TimeoutsAndOdometry)
+{
+  LocalMap map{ MapParams() };
+  insertRect(map, -0.4F, 2.0F, -0.8F, 0.8F, RayKind::Free);
+  const SafetyFilter filter;
+  FilterInput in = inputAt(0.0, 0.0, 0.0, 0.2, 0.5);
+  in.now = 1.0;
+  in.command_time = 1.0 - 0.6;  // older than input_timeout 0.5 s
+  in.cloud_time = 1.0;
+  EXPECT_EQ(filter.filter(map, in).reason, FilterReason::INPUT_TIMEOUT);
+  EXPECT_DOUBLE_EQ(filter.filter(map, in).command.angular, 0.0);
+  in.command_time = -kInf;  // never any command
+  EXPECT_EQ(filter.filter(map, in).reason, FilterReason::INPUT_TIMEOUT);
+  in.command_time = 1.0;
+  in.cloud_time = 1.0 - 0.6;  // older than stale_timeout 0.5 s: forward stops, the turn passes
+  FilterOutput out = filter.filter(map, in);
+  EXPECT_EQ(out.reason, FilterReason::STALE_DATA);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+  EXPECT_DOUBLE_EQ(out.command.angular, 0.5);
+  in.command = Velocity{ -0.1, 0.0 };  // reverse is checked on the map only
+  in.pose.x = 0.5;
+  EXPECT_EQ(filter.filter(map, in).reason, FilterReason::PASSED);
+  in.localized = false;
+  out = filter.filter(map, in);
+  EXPECT_EQ(out.reason, FilterReason::NO_ODOMETRY);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+}
+
+TEST(SafetyFilter, ArcContactMatchesSampledGeometry)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-1.2, 1.2);
+  std::uniform_real_distribution<double> curv(-3.0, 3.0);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    std::vector<Point2> pts;
+    while (pts.size() < 3)
+    {
+      const Point2 p{ coord(rng), coord(rng) };
+      if (std::hypot(p.x, p.y) > kBody + 0.01)
+      {
+        pts.push_back(p);
+      }
+    }
+    const double k = trial % 5 == 0 ? 0.0 : curv(rng);
+    const int dir = trial % 2 == 0 ? 1 : -1;
+    const double exact = arcContact(pts, kBody, dir, k, 1.5);
+    const double sampled = sampledContact(pts, kBody, dir, k, 1.5);
+    if (std::isfinite(sampled) && sampled < 1.49)
+    {
+      EXPECT_NEAR(exact, sampled, 0.0015) << "trial " << trial << " k " << k << " dir " << dir;
+    }
+    else
+    {
+      EXPECT_TRUE(!std::isfinite(exact) || exact > 1.48) << "trial " << trial << ": " << exact;
+    }
+  }
+  // A point under the disc: contact now if the motion goes into it, none if it leaves it.
+  const std::vector<Point2> under{ { 0.1, 0.0 } };
+  EXPECT_DOUBLE_EQ(arcContact(under, kBody, 1, 0.5, 1.0), 0.0);
+  EXPECT_EQ(arcContact(under, kBody, -1, 0.5, 1.0), kInf);
+}
+
+TEST(SafetyFilter, SweptArcFindsCellsWhereTheDiscReachesThem)
+{
+  LocalMap map{ MapParams() };
+  insertRect(map, -0.4F, 2.0F, -1.0F, 1.4F, RayKind::Free);
+  map.markOccupiedDisc(0.61, 0.31, 0.005, 0.0);  // one occupied cell
+  const Pose2D start{ 0.0, 0.0, 0.0 };
+  for (const double k : { 0.0, 0.4, 0.8, -0.4 })
+  {
+    const ArcResult r = sweepArc(map, kBody, start, 1, k, 1.5, 0.0);
+    const std::vector<Point2> centre{ { 0.61, 0.31 } };
+    const double expected = arcContact(centre, kBody, 1, k, 1.5);
+    if (std::isfinite(expected))
+    {
+      // The cell's centre is reached at `expected`; the sweep reports it up to a quarter cell early.
+      EXPECT_LE(r.obstacle, expected + 1e-9) << "k " << k;
+      EXPECT_GE(r.obstacle, expected - 0.25 * kRes - 1e-9) << "k " << k;
+      EXPECT_DOUBLE_EQ(r.free, r.obstacle);
+    }
+    else
+    {
+      EXPECT_EQ(r.obstacle, kInf) << "k " << k;
+      EXPECT_DOUBLE_EQ(r.free, 1.5) << "k " << k;
+    }
+  }
+  EXPECT_THROW(sweepArc(map, kBody, start, 0, 0.1, 1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(sweepArc(map, kBody, start, 1, std::nan(""), 1.0, 0.0), std::invalid_argument);
+}
+
+TEST(SafetyFilter, BadParametersAreNamed)
+{
+  FilterParams p;
+  p.deceleration = -1.0;
+  EXPECT_EQ(p.validate().rfind("deceleration", 0), 0U) << p.validate();
+  p = FilterParams();
+  p.input_timeout = 0.0;
+  EXPECT_EQ(p.validate().rfind("input_timeout", 0), 0U) << p.validate();
+  p = FilterParams();
+  p.footprint.radius = 0.0;
+  EXPECT_EQ(p.validate().rfind("radius", 0), 0U) << p.validate();
+  EXPECT_THROW(SafetyFilter{ p }, std::invalid_argument);
+}
+}  // namespace
+}  // namespace sl_obstacle

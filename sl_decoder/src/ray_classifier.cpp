@@ -21,6 +21,9 @@ constexpr int kFloorMargin = 6;         // px: floor pixels this close to the bo
 constexpr float kFloorLight = 0.35f;    // floor light: centre line mean above the background, noise floors
 constexpr float kStrongFloorLight = 0.5f;  // floor light that needs no walk up to the floor, noise floors
 constexpr float kFloorGap = 0.7f;
+constexpr int kBorderBlocks = 2;        // light-map blocks at the image border whose light is nobody's own
+constexpr float kSupport = 0.03f;       // m: a suspect needs a neighbouring row's decoded or lit end this close
+constexpr int kSupportCols = 2;         // ... in a column at most this far from its own
 constexpr float kNearFloor = 0.9f;      // a walk stopped beyond this fraction of the floor depth reached it       // the gaps beside it darker by this fraction of that light
 
 void check(bool ok, const char* field, const std::string& rule)
@@ -151,6 +154,8 @@ void RayClassifier::precompute(const sl_projector::Rig& rig, const DecoderConfig
   claim_.assign(blocks, kInf);
   shape_.assign(blocks, 0);
   floor_light_.assign(static_cast<size_t>(n), 0.f);
+  lit_free_.assign(static_cast<size_t>(n), -1);
+  unsupported_.assign(static_cast<size_t>(n), 0);
   bounds_.reserve(static_cast<size_t>(n) + 16);
 }
 
@@ -488,6 +493,7 @@ int RayClassifier::walkSegment(const Primitive& p, int& last_free_out, int& stop
   const float noise = static_cast<float>(config_.noise_floor), k_contrast = k_, inv_z2_min = inv_z2_min_;
   const float glow_depth = static_cast<float>(config_.glow_max_depth), limit = p.limit;
   const int saturated = static_cast<int>(std::ceil(config_.saturation_level)), dark = dark_level_;
+  const int bw = bw_, bh = bh_;
   int last_free = -1;  // a local: stores through the reference would not stay in a register
   for (int32_t k = p.begin; k < p.end; ++k)
   {
@@ -524,8 +530,12 @@ int RayClassifier::walkSegment(const Primitive& p, int& last_free_out, int& stop
                       static_cast<float>(means[s.block] - dark) >= std::max(2.f * noise, k_glow * s.inv_z2);
     if (peak >= saturated || glow || light >= std::max(noise, k_contrast * s.inv_z2))
     {
+      // Someone else's light: a blob identified as another shape, or light at the image border,
+      // where blobs are cut and cannot be identified (the pattern is wider than the view).
       const uint8_t shape = shapes[s.block];
-      stop = (shape != 0 && shape != 255 && shape != p.shape) ? kOther : kLit;
+      const int bx = s.block % bw, by = s.block / bw;
+      const bool border = bx < kBorderBlocks || by < kBorderBlocks || bx >= bw - kBorderBlocks || by >= bh - kBorderBlocks;
+      stop = border || (shape != 0 && shape != 255 && shape != p.shape) ? kOther : kLit;
       last_free_out = last_free;
       return k;
     }
@@ -537,7 +547,7 @@ int RayClassifier::walkSegment(const Primitive& p, int& last_free_out, int& stop
   return p.end;
 }
 
-void RayClassifier::walk(int index, RayOutcome& out) const
+void RayClassifier::walk(int index, RayOutcome& out)
 {
   const Primitive& p = prims_[static_cast<size_t>(index)];
   int last_free = -1, stop = kEnd;
@@ -555,6 +565,7 @@ void RayClassifier::walk(int index, RayOutcome& out) const
   if (stop == kLit)
   {
     setOutcome(out, RayState::Lit, index, samples_[static_cast<size_t>(k)].z);
+    lit_free_[static_cast<size_t>(index)] = last_free;
   }
   else if (floor)
   {
@@ -613,12 +624,53 @@ void RayClassifier::classify(const cv::Mat& image, const DecodeResult& result, s
   for (int i = 0; i < n; ++i)
   {
     RayOutcome& o = outcomes[static_cast<size_t>(i)];
+    lit_free_[static_cast<size_t>(i)] = -1;
     if (o.state != RayState::Decoded && o.state != RayState::Floor)
     {
       o = RayOutcome();
       walk(i, o);
     }
+  }
+  dropUnsupportedSuspects(outcomes);
+  for (const RayOutcome& o : outcomes)
     ++counts_[static_cast<size_t>(o.state)];
+}
+
+void RayClassifier::dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes)
+{
+  // A surface returns the pattern of several rows. Unexplained light that ends a ray as a suspect
+  // (the pattern's edge cut by the image border, the dim rows stretched on the floor at the foot
+  // of a wall) is another primitive's light as often as not, and crosses the segments of one
+  // pattern row at a different depth for each column: a suspect that no primitive of a
+  // neighbouring row confirms (decoded or lit within kSupport) ends the free part there instead.
+  const float support2 = kSupport * kSupport;
+  for (int i = 0; i < rows_ * cols_; ++i)
+  {
+    const RayOutcome& o = outcomes[static_cast<size_t>(i)];
+    bool supported = o.state != RayState::Lit;
+    const int r = i / cols_, c = i % cols_;
+    for (int rr = r - 1; rr <= r + 1 && !supported; rr += 2)
+      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
+           ++cc)
+      {
+        const RayOutcome& q = outcomes[static_cast<size_t>(rr * cols_ + cc)];
+        if ((q.state == RayState::Lit || q.state == RayState::Decoded) && (q.end - o.end).squaredNorm() <= support2)
+        {
+          supported = true;
+          break;
+        }
+      }
+    unsupported_[static_cast<size_t>(i)] = !supported;
+  }
+  for (int i = 0; i < rows_ * cols_; ++i)
+  {
+    if (!unsupported_[static_cast<size_t>(i)])
+      continue;
+    RayOutcome& o = outcomes[static_cast<size_t>(i)];
+    const int32_t last_free = lit_free_[static_cast<size_t>(i)];
+    o = RayOutcome();
+    if (last_free >= 0)
+      setOutcome(o, RayState::Dark, i, samples_[static_cast<size_t>(last_free)].z);
   }
 }
 

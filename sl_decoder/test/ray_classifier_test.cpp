@@ -22,6 +22,7 @@ struct Frame
   DecodeResult result;
   std::vector<RayOutcome> rays;
   std::array<int, kRayStates> counts{};
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();  ///< camera in the world (classifyFrom)
 };
 
 /// The default rig, simulator, decoder and classifier, shared by the tests (built once).
@@ -328,7 +329,7 @@ TEST(RayClassifier, RoomNeverLetsAFreeRayThroughASurface)
 
 // The check above can fail: with a noise floor far below the real noise (0.5 DN against the 4 to 6
 // DN that noise reaches), the walk trusts darkness up to 2.5 m, and rays pass through the dim plane
-// (measured: 22; most others stop early, lit by noise).
+// (measured: 5; most others stop early, at noise).
 TEST(RayClassifier, TooLowANoiseFloorLetsRaysThroughADimPlane)
 {
   RayConfig optimistic;
@@ -342,5 +343,127 @@ TEST(RayClassifier, TooLowANoiseFloorLetsRaysThroughADimPlane)
   s.decoder.decode(f.truth.image, f.result);
   rays.classify(f.truth.image, f.result, f.rays);
   EXPECT_GT(rays.lastDetectableDepth(), 2.5);
-  EXPECT_GT(raysBeyondSurface(scene, f, 0.02, "noise floor 0.5 DN"), 10);
+  EXPECT_GE(raysBeyondSurface(scene, f, 0.02, "noise floor 0.5 DN"), 3);
+}
+
+namespace
+{
+/// Classifies @p scene seen with platform_edge at (x, y, yaw) in the world; restores the default pose.
+void classifyFrom(const sl_camera::Scene& scene, double x, double y, double yaw, uint64_t seed, Frame& f)
+{
+  Shared& s = setup();
+  Eigen::Isometry3d edge = Eigen::Isometry3d::Identity();
+  edge.translation() = Eigen::Vector3d(x, y, 0.0);
+  edge.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Isometry3d saved = s.camera_in_world;
+  s.camera_in_world = sl_camera::cameraPoseInWorld(s.rig, edge);
+  s.renderer.render(scene, s.pattern, s.camera_in_world, seed, f.truth);
+  s.decoder.decode(f.truth.image, f.result);
+  s.rays.classify(f.truth.image, f.result, f.rays);
+  f.counts = s.rays.lastCounts();
+  f.camera = s.camera_in_world;
+  s.camera_in_world = saved;
+}
+
+/// Lit rays whose suspect end lies more than @p gap m before the first surface on its projector
+/// ray (inside sl_obstacle's height band): phantom obstacles where nothing is.
+int phantomSuspects(const sl_camera::Scene& scene, const Frame& f, double gap)
+{
+  const Shared& s = setup();
+  const Eigen::Vector3d origin = f.camera * s.rays.projectorCentre().cast<double>();
+  int phantoms = 0;
+  for (const RayOutcome& o : f.rays)
+  {
+    if (o.state != RayState::Lit)
+      continue;
+    const Eigen::Vector3d end = f.camera * o.end.cast<double>();
+    sl_camera::Ray ray;
+    ray.origin = origin;
+    ray.direction = (end - origin).normalized();
+    sl_camera::Hit hit;
+    const double surface = sl_camera::intersectScene(scene, ray, hit) ? hit.t : 1e9;
+    phantoms += (end - origin).norm() < surface - gap && end.z() > 0.015 && end.z() < 0.173;
+  }
+  return phantoms;
+}
+
+/// Primitives whose projector ray meets the object named @p name first, and of those the ones the
+/// classifier decoded or made a suspect no farther than the object (+ 0.02 m).
+void seenOnObject(const sl_camera::Scene& scene, const Frame& f, const std::string& name, int& hits, int& seen)
+{
+  const Shared& s = setup();
+  const Eigen::Vector3d origin = f.camera * s.rays.projectorCentre().cast<double>();
+  hits = seen = 0;
+  const int total = static_cast<int>(f.rays.size());
+  for (int i = 0; i < total; ++i)
+  {
+    const RayOutcome& o = f.rays[static_cast<size_t>(i)];
+    if (s.rays.samples(i) == 0 || o.state == RayState::Unseen)
+      continue;
+    sl_camera::Ray ray;
+    ray.origin = origin;
+    ray.direction = (f.camera * o.end.cast<double>() - origin).normalized();
+    sl_camera::Hit hit;
+    if (!sl_camera::intersectScene(scene, ray, hit) || scene.objects[static_cast<size_t>(hit.object)].name != name)
+      continue;
+    ++hits;
+    const double along = (f.camera * o.end.cast<double>() - origin).norm();
+    seen += o.state == RayState::Decoded || (o.state == RayState::Lit && along <= hit.t + 0.02);
+  }
+}
+}  // namespace
+
+TEST(RayClassifier, AWallMakesFewPhantomSuspectsInFrontOfIt)
+{
+  // Unexplained light (the pattern's edge cut by the image border, the dim rows stretched on the
+  // floor at the foot of the wall) must not put suspects into the empty space in front of a wall:
+  // each is an obstacle in the map that is not there, and the robot would not drive up to the wall.
+  // Measured: 0 from each pose (52, 52, 18 and 72 before border light and unconfirmed suspects were
+  // told apart).
+  const sl_camera::Scene scene = sl_camera::parseScene(
+      "format_version: 1\nobjects:\n"
+      "  - {type: plane, name: floor, position: [0, 0, 0], normal: [0, 0, 1], albedo: 0.35,\n"
+      "     texture: {type: noise, scale: 0.05, contrast: 0.3}, floor: true}\n"
+      "  - {type: plane, name: wall, position: [1.0, 0, 1.0], normal: [-1, 0, 0], size: [3, 2], albedo: 0.8}\n",
+      "wall");
+  const double poses[][3] = { { 0.0, 0.0, 0.0 }, { 0.3, 0.0, 0.0 }, { 0.5, 0.1, 0.2 }, { 0.2, -0.1, -0.3 } };
+  Frame f;
+  for (const auto& p : poses)
+  {
+    classifyFrom(scene, p[0], p[1], p[2], 1, f);
+    const int phantoms = phantomSuspects(scene, f, 0.05);
+    std::printf("wall from (%.1f, %.1f, %.1f): %s; phantom suspects %d\n", p[0], p[1], p[2], countsText(f).c_str(),
+                phantoms);
+    EXPECT_LE(phantoms, 3);
+    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "wall"), 0);
+  }
+}
+
+TEST(RayClassifier, ALegAfterATurnStaysAnObstacle)
+{
+  // The dark 22 mm leg of leg_beside_wall.yaml, 0.1 to 0.3 m in front of the robot after it turned
+  // at the wall: near, blurred, hardly decodable. Its rays must be decoded or suspects at the leg,
+  // and no free ray may pass through it.
+  const sl_camera::Scene scene = sl_camera::parseScene(
+      "format_version: 1\nobjects:\n"
+      "  - {type: plane, name: floor, position: [0, 0, 0], normal: [0, 0, 1], albedo: 0.35,\n"
+      "     texture: {type: noise, scale: 0.05, contrast: 0.3}, floor: true}\n"
+      "  - {type: plane, name: wall, position: [1.0, 0, 1.0], normal: [-1, 0, 0], size: [4, 2], albedo: 0.7}\n"
+      "  - {type: cylinder, name: leg, position: [0.60, 0.28, 0.36], radius: 0.011, height: 0.72, albedo: 0.12}\n",
+      "leg_beside_wall");
+  const double poses[][3] = { { 0.43, 0.0, 1.05 }, { 0.45, 0.0, 0.9 }, { 0.3, 0.05, 0.8 }, { 0.2, 0.1, 0.6 } };
+  Frame f;
+  for (const auto& p : poses)
+  {
+    classifyFrom(scene, p[0], p[1], p[2], 2, f);
+    int hits = 0, seen = 0;
+    seenOnObject(scene, f, "leg", hits, seen);
+    std::printf("leg from (%.2f, %.2f, %.2f): %s; rays on the leg %d, decoded or suspect there %d\n", p[0], p[1], p[2],
+                countsText(f).c_str(), hits, seen);
+    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "leg"), 0);
+    if (hits >= 4)
+    {
+      EXPECT_GE(seen, hits / 2) << "the leg is hardly seen";
+    }
+  }
 }

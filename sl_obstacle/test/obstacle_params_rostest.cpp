@@ -115,6 +115,42 @@ TEST(ObstacleParams, BadValuesFailNamingTheParameter)
   s = ns(); ros::param::set(s + "/use_map", 1.0); expectRejected(s, "use_map");  // wrong type
 }
 
+TEST(ObstacleParams, FilterDefaultsEqualTheCoreDefaultsAndBadValuesAreNamed)
+{
+  const NodeletParams p = loadParams(ros::NodeHandle("~defaults"));
+  const Settings core;
+  const FilterParams& f = p.settings.filter;
+  EXPECT_DOUBLE_EQ(f.input_timeout, core.filter.input_timeout);
+  EXPECT_DOUBLE_EQ(f.clearance, p.settings.decision.safety_margin);
+  EXPECT_DOUBLE_EQ(f.clearance, core.filter.clearance);
+  EXPECT_DOUBLE_EQ(f.deceleration, core.filter.deceleration);
+  EXPECT_DOUBLE_EQ(f.horizon, p.settings.world.check_distance);
+  EXPECT_DOUBLE_EQ(f.stale_timeout, p.settings.decision.stale_timeout);
+  EXPECT_DOUBLE_EQ(f.footprint.radius, p.settings.world.footprint.radius);
+  EXPECT_DOUBLE_EQ(p.settings.teleop_hold, core.teleop_hold);
+
+  ros::NodeHandle given("~filter_given");
+  given.setParam("command_mode", "filter");
+  given.setParam("input_timeout", 0.3);
+  given.setParam("teleop_hold", 1);
+  const NodeletParams q = loadParams(given);
+  EXPECT_EQ(q.command_mode, CommandMode::FILTER);
+  EXPECT_DOUBLE_EQ(q.settings.filter.input_timeout, 0.3);
+  EXPECT_DOUBLE_EQ(q.settings.teleop_hold, 1.0);
+
+  ros::param::set("~filter_bad0/input_timeout", 0.0);
+  expectRejected("~filter_bad0", "input_timeout");
+  ros::param::set("~filter_bad1/teleop_hold", -1.0);
+  expectRejected("~filter_bad1", "teleop_hold");
+  ros::param::set("~filter_bad2/command_mode", std::string("filter"));
+  ros::param::set("~filter_bad2/use_map", false);
+  expectRejected("~filter_bad2", "command_mode");  // the filter needs the map
+  ros::param::set("~filter_bad3/command_mode", 2);
+  expectRejected("~filter_bad3", "command_mode");  // wrong type, not silently "action"
+  ros::param::set("~filter_bad4/control_rate", std::string("fast"));
+  expectRejected("~filter_bad4", "control_rate");
+}
+
 TEST(ObstacleParams, MapDefaultsEqualTheCoreDefaults)
 {
   const NodeletParams p = loadParams(ros::NodeHandle("~defaults"));

@@ -215,7 +215,9 @@ private:
   };
   /// Walks the segment near to far; returns the sample where it stopped, sets the last free one.
   int walkSegment(const Primitive& p, int& last_free, int& stop) const;
-  void walk(int index, RayOutcome& out) const;
+  void walk(int index, RayOutcome& out);
+  /// Turns lit ends that no neighbouring row confirms into the end of a free part (dark).
+  void dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes);
   void setOutcome(RayOutcome& out, RayState state, int index, float z) const;
 
   RayConfig config_;
@@ -237,6 +239,8 @@ private:
   std::vector<uint8_t> shape_; // identified undecoded blob's shape covering the block, 0 none, 255 several
   std::vector<float> bounds_;  // per decoded blob: contrast * z^2
   std::vector<float> floor_light_;  // per primitive: floorLight() of this frame
+  std::vector<int32_t> lit_free_;   // per primitive: the last free sample before its light (lit), -1 none
+  std::vector<uint8_t> unsupported_;  // per primitive: a lit end no neighbouring row confirms
   // Per-frame results.
   double c1_ = 0.0, frame_bound_ = 0.0, detectable_depth_ = 0.0;
   float k_ = 0.f;          // light_fraction * min_albedo * C1

@@ -2,6 +2,7 @@
 #   make sim    install what is missing, build, run the simulated system
 #   make test   install what is missing, build, run every test, print "N passed, N failed"
 #   make soak   ten minutes of exploring the room scene: no contact, distance and area printed
+#   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run
 # Catkin and the ROS tools need Debian's /usr/bin/python3, not a pyenv shim that may shadow it.
 SHELL := /bin/bash
 ROOT  := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
@@ -12,7 +13,7 @@ ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH 
 CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
           -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
 
-.PHONY: all deps build sim test bench soak clean
+.PHONY: all deps build sim test test-asan bench soak clean
 all: build
 
 deps:
@@ -29,6 +30,9 @@ sim: build
 test: build
 	@$(ROOT)/scripts/run_tests.sh $(WS) $(JOBS)
 
+test-asan: deps
+	@$(ROOT)/scripts/run_asan_tests.sh $(WS) $(JOBS)
+
 soak: build
 	@$(ROSENV); catkin_make -C $(WS) explore_rostest > $(WS)/soak_build.log 2>&1 || { tail -n 30 $(WS)/soak_build.log; exit 1; }; \
 	  rostest --text --pkgdir=$(WS)/src/sl_bringup --package=sl_bringup $(WS)/src/sl_bringup/test/explore.test \
@@ -38,4 +42,4 @@ bench: build
 	@$(ROSENV); $(ROOT)/scripts/run_benchmarks.sh $(WS)
 
 clean:
-	rm -rf $(WS)/build $(WS)/devel $(WS)/install $(WS)/build.log
+	rm -rf $(WS)/build $(WS)/devel $(WS)/install $(WS)/build.log $(WS)/build_asan $(WS)/devel_asan

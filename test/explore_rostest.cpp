@@ -7,7 +7,7 @@
 //     line) is at ~clearance +- ~tolerance of travel before the robot's disc would touch it (heights
 //     up to H), measured by casting rays through the scene from the true pose; a stop for an
 //     obstacle nearer the side of the disc, which often only the map remembers, is within -25 mm
-//     and +80 mm of it (the map's 2 cm cells, and the odometry since the obstacle was seen).
+//     and +100 mm of it (the map's 2 cm cells, and the odometry since the obstacle was seen).
 // It prints the path length, the floor area the robot's disc covered, the nearest approach to any
 // object and the number of stops checked (also the 10-minute soak: `make soak`).
 // Private parameters: ~scene (file), ~duration (s), ~min_travel (m), ~clearance (m), ~tolerance (m),
@@ -172,7 +172,10 @@ protected:
   std::string stop_reason_;
   static constexpr double kCentre = 0.10;     // m either side of the centre line: "in the path"
   static constexpr double kSideLate = 0.025;  // m a stop for an obstacle beside it may come late
-  static constexpr double kSideEarly = 0.08;  // m ... or early
+  // m ... or early: 0.15 m off the centre line the contact travel moves by y / sqrt(r^2 - y^2) = 2.1
+  // times any lateral error, and the map's cells count from their nearest corner (measured up to
+  // +79.6 mm in 18 runs).
+  static constexpr double kSideEarly = 0.10;
   std::vector<double> stop_errors_, side_stop_errors_;
 };
 

@@ -70,8 +70,10 @@ private:
   bool teleopActive(const ros::Time& now);
   /// One safety-filter step on the latest cmd_vel_in command. Caller holds mutex_.
   void filterStep(const ros::Time& now);
-  /// Keeps the accepted obstacle points of @p cloud in the odom frame, for the filter.
+  /// Keeps the accepted obstacle points of @p cloud (in ~target_frame) for the filter.
   void keepObstacles(const Cloud& cloud, const VolumeResult& result);
+  /// Moves the kept obstacle points into the odom frame once tf has the cloud's stamp.
+  void resolveObstacles(const ros::Time& now);
   /// Reads the robot's pose in the odom frame now; false (with localization_detail_) when unknown.
   bool updatePose(const ros::Time& now);
   void publishMap(const ros::Time& now);
@@ -146,7 +148,10 @@ private:
   bool have_command_ = false;
   ros::Time teleop_until_;
   bool teleop_active_ = false;
-  std::vector<Point2> obstacles_odom_;   // the latest cloud's accepted obstacle points in odom
+  std::vector<Point2> obstacles_edge_;   // the latest cloud's accepted obstacle points in ~target_frame
+  ros::Time obstacles_stamp_;
+  bool obstacles_pending_ = false;       // obstacles_edge_ not yet in odom (tf not there yet)
+  std::vector<Point2> obstacles_odom_;   // the latest resolved cloud's obstacle points in odom
   std::vector<Point2> obstacles_robot_;  // ... in the robot's frame now
   FilterOutput filter_out_;
 };
@@ -414,28 +419,47 @@ bool ObstacleNodelet::updatePose(const ros::Time& now)
 
 void ObstacleNodelet::keepObstacles(const Cloud& cloud, const VolumeResult& result)
 {
-  obstacles_odom_.clear();
+  obstacles_edge_.clear();
+  for (const std::uint32_t i : result.obstacle_indices)
+  {
+    obstacles_edge_.push_back(Point2{ points_[i].x, points_[i].y });
+  }
+  obstacles_stamp_ = cloud.header.stamp;
+  obstacles_pending_ = true;
+}
+
+void ObstacleNodelet::resolveObstacles(const ros::Time& now)
+{
+  if (!obstacles_pending_)
+  {
+    return;
+  }
   geometry_msgs::TransformStamped t;
   try
   {
-    // The cloud's frame was resolved at its stamp by the message filter: no waiting here.
-    t = tf_buffer_->lookupTransform(params_.odom_frame, params_.target_frame, cloud.header.stamp);
+    t = tf_buffer_->lookupTransform(params_.odom_frame, params_.target_frame, obstacles_stamp_);
   }
   catch (const tf2::TransformException& e)
   {
-    NODELET_WARN_THROTTLE(5.0, "filter uses the map only: %s", e.what());
+    // Odometry usually arrives a few ms after the image: keep the previous points until then.
+    if ((now - obstacles_stamp_).toSec() > params_.settings.decision.stale_timeout)
+    {
+      NODELET_WARN_THROTTLE(5.0, "filter uses the map only: %s", e.what());
+      obstacles_odom_.clear();
+      obstacles_pending_ = false;
+    }
     return;
   }
   const double yaw = tf2::getYaw(t.transform.rotation);
   const double c = std::cos(yaw);
   const double s = std::sin(yaw);
-  for (const std::uint32_t i : result.obstacle_indices)
+  obstacles_odom_.clear();
+  for (const Point2& p : obstacles_edge_)
   {
-    const double x = points_[i].x;
-    const double y = points_[i].y;
     obstacles_odom_.push_back(
-        Point2{ t.transform.translation.x + c * x - s * y, t.transform.translation.y + s * x + c * y });
+        Point2{ t.transform.translation.x + c * p.x - s * p.y, t.transform.translation.y + s * p.x + c * p.y });
   }
+  obstacles_pending_ = false;
 }
 
 void ObstacleNodelet::onCommand(const geometry_msgs::Twist& msg)
@@ -510,6 +534,7 @@ void ObstacleNodelet::filterStep(const ros::Time& now)
   in.pose = pose_;
   in.cloud_time = have_frame_ ? last_cloud_stamp_.toSec() : -std::numeric_limits<double>::infinity();
   // The cloud's obstacles (static) seen from where the robot is now.
+  resolveObstacles(now);
   const double c = std::cos(pose_.yaw);
   const double s = std::sin(pose_.yaw);
   obstacles_robot_.clear();

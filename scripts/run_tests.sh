@@ -21,7 +21,20 @@ catkin_make -C "$ws" -j1 run_tests >> "$log" 2>&1
 catkin_test_results --all "$results" > "$ws/test_results.txt" 2>&1
 status=$?
 grep -E -v '^(Skipping|Summary)|: [0-9]+ tests(, 0 errors, 0 failures.*)?$' "$ws/test_results.txt" || true
-summary="$(/usr/bin/python3 "$(dirname "$0")/test_summary.py" "$results")"
+# Every test group must have run: a result file missing from the expected set (a package whose
+# tests did not build, Aravis missing, a rostest that never started) counts as a failure.
+expected="$(dirname "$0")/../test/expected_results.txt"
+missing=0
+if [[ -f "$expected" ]]; then
+  while read -r name; do
+    [[ -z "$name" || "$name" == \#* ]] && continue
+    if [[ ! -s "$results/$name" ]]; then
+      echo "MISSING $name (expected by test/expected_results.txt)"
+      missing=$((missing + 1))
+    fi
+  done < "$expected"
+fi
+summary="$(/usr/bin/python3 "$(dirname "$0")/test_summary.py" "$results" --missing "$missing")"
 summary_status=$?
 echo "$summary"
 [[ $status -eq 0 && $summary_status -eq 0 ]]

@@ -12,7 +12,10 @@ import sys
 import xml.etree.ElementTree as ET
 
 root_dir = sys.argv[1]
-passed = failed = skipped = 0
+# --missing N: result files that should exist and do not (counted as failures by the caller's check).
+missing = int(sys.argv[sys.argv.index("--missing") + 1]) if "--missing" in sys.argv else 0
+passed = skipped = 0
+failed = missing
 failures = []
 for dirpath, _, files in os.walk(root_dir):
     for name in sorted(files):

@@ -7,6 +7,8 @@
 //     off, forward motion stops within stale_timeout; when the user stops publishing, the robot
 //     stops within input_timeout.
 //   ~scenario "arcs": arcs to both sides past a thin dark leg; the robot moves and never touches.
+//   ~scenario "takeover" (command_mode action): a command on cmd_vel_in takes over from autonomy
+//     while the user publishes and ~teleop_hold seconds after, then autonomy drives again.
 // Every run: no contact, no bumper.
 #include <atomic>
 #include <cmath>
@@ -136,6 +138,25 @@ protected:
 
   void runWall();
   void runArcs();
+  void runTakeover();
+
+  /// Waits up to @p seconds until @p done (called with mutex_ held) is true; @return done().
+  template <typename Done>
+  bool waitFor(double seconds, Done done)
+  {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end)
+    {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (done())
+          return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    return done();
+  }
 
   ros::NodeHandle nh_;
   ros::Publisher cmd_pub_, points_pub_, rays_pub_;
@@ -250,6 +271,36 @@ void Filter::runArcs()
   EXPECT_TRUE(reasons_seen_ & (1ULL << S::REASON_LIMITED)) << "no arc was ever limited";
 }
 
+void Filter::runTakeover()
+{
+  const double hold = privateParam("teleop_hold", 2.0);
+  const auto autonomy_drives = [&] {
+    return !last_status_.teleop && (last_status_.state == S::DRIVING || last_status_.state == S::SLOWING);
+  };
+  ASSERT_TRUE(waitFor(40.0, autonomy_drives)) << "autonomy never drove: " << last_status_.reason;
+  double yaw0 = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    yaw0 = yawOf(pose_);
+  }
+  // The user turns the robot: the command takes over at once.
+  command(0.0, 0.6, 1.5);
+  const ros::Time quiet = ros::Time::now();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    EXPECT_TRUE(last_status_.teleop) << "cmd_vel_in did not take over: " << last_status_.reason;
+    EXPECT_EQ(last_status_.reason_code, S::REASON_PASSED) << last_status_.reason;
+    EXPECT_GT(std::abs(std::remainder(yawOf(pose_) - yaw0, 2.0 * M_PI)), 0.3) << "the user's turn did not happen";
+  }
+  // Autonomy waits teleop_hold after the last command, then decides again.
+  ASSERT_TRUE(waitFor(hold + 5.0, [&] { return !last_status_.teleop; })) << "autonomy never resumed";
+  const double resumed_after = (ros::Time::now() - quiet).toSec();
+  ROS_INFO("filter takeover: autonomy resumed %.2f s after the last command (teleop_hold %.1f s)", resumed_after, hold);
+  EXPECT_GE(resumed_after, hold - 0.2) << "autonomy took back control before teleop_hold";
+  EXPECT_TRUE(waitFor(30.0, [&] { return last_status_.command == S::COMMAND_DRIVE || last_status_.command == S::COMMAND_TURN; }))
+      << "autonomy gave no command after resuming: " << last_status_.reason;
+}
+
 TEST_F(Filter, DrivesWhereTheUserSaysExceptIntoThings)
 {
   std::string scenario = "wall";
@@ -274,8 +325,10 @@ TEST_F(Filter, DrivesWhereTheUserSaysExceptIntoThings)
   ros::WallDuration(1.0).sleep();
   if (scenario == "wall")
     runWall();
-  else
+  else if (scenario == "arcs")
     runArcs();
+  else
+    runTakeover();
   expectNoContact();
 }
 

@@ -2,6 +2,7 @@
 #   make sim    install what is missing, build, run the simulated system
 #   make test   install what is missing, build, run every test, print "N passed, N failed"
 #   make soak   ten minutes of exploring the room scene: no contact, distance and area printed
+#   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
 #   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run
 # Catkin and the ROS tools need Debian's /usr/bin/python3, not a pyenv shim that may shadow it.
 SHELL := /bin/bash
@@ -9,11 +10,12 @@ ROOT  := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 WS    := $(ROOT)/catkin_ws
 JOBS  ?= $(shell nproc)
 BUILD_TYPE ?= Release
+FUZZ_SECONDS ?= 30
 ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH PYTHONHOME; source $(WS)/devel/setup.bash
 CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
           -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
 
-.PHONY: all deps build sim test test-asan bench soak clean
+.PHONY: all deps build sim test test-asan bench soak fuzz clean
 all: build
 
 deps:
@@ -40,6 +42,10 @@ soak: build
 
 bench: build
 	@$(ROSENV); $(ROOT)/scripts/run_benchmarks.sh $(WS)
+
+# Not part of `make test`: clang builds of the core sources with the sanitizers, in catkin_ws/build_fuzz.
+fuzz: deps
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(JOBS) $(ROOT)/scripts/run_fuzz.sh
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/install $(WS)/build.log $(WS)/build_asan $(WS)/devel_asan

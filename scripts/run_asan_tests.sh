@@ -19,6 +19,11 @@ if ! catkin_make -C "$ws" --build "$ws/build_asan" -DCATKIN_DEVEL_PREFIX="$ws/de
     "${targets[@]}" > "$log" 2>&1; then
   tail -n 40 "$log"; echo "sanitizer build failed (log: $log)"; echo "0 passed, 1 failed"; exit 1
 fi
+# The tests find packages (rospack) and data through the sanitized workspace's environment.
+set +u
+# shellcheck disable=SC1091
+source "$ws/devel_asan/setup.bash"
+set -u
 results="$ws/build_asan/asan_results"
 rm -rf "$results"; mkdir -p "$results"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0:halt_on_error=1"

@@ -94,16 +94,16 @@ TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
   const double edge_x = pose_.position.x + edge_offset * std::cos(yawOf(pose_));
   const double stop_distance = obstacle_x - edge_x;
   const double travelled = pose_.position.x - start_x;
+  const double nearest_y_world = pose_.position.y + status_.nearest_point.y;
   ROS_INFO("closed loop: stopped with the front edge %.4f m from the obstacle (clearance %.3f m, error %+.1f mm) "
-           "after %.3f m; the system measured %.4f m; heading %.4f rad",
+           "after %.3f m; the system measured %.4f m, nearest point at y = %+.4f m (world); heading %.4f rad",
            stop_distance, clearance, 1000.0 * (stop_distance - clearance), travelled, status_.nearest_distance,
-           yawOf(pose_));
+           nearest_y_world, yawOf(pose_));
   EXPECT_NEAR(stop_distance, clearance, tolerance) << "front edge not at the configured clearance";
   EXPECT_GT(travelled, 0.1) << "the robot hardly moved";
   EXPECT_NEAR(yawOf(pose_), 0.0, 0.05) << "the robot did not drive straight";
   // The stop was for this obstacle: the nearest obstacle point reported lies on it.
   EXPECT_NEAR(status_.nearest_distance, stop_distance, 0.03) << "the system's distance differs from the truth";
-  const double nearest_y_world = pose_.position.y + status_.nearest_point.y;
   EXPECT_NEAR(nearest_y_world, obstacle_y, lateral_tolerance) << "the nearest obstacle point is not on the obstacle";
 
   // Never touched: the camera simulator's contact signal was always 0, the bumpers never fired.

@@ -1,6 +1,9 @@
 #include "rostest_helpers.h"
 
 #include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
 
 namespace test_helpers
 {
@@ -73,15 +76,27 @@ bool System::driveUntil(double linear, double angular, const std::function<bool(
 
 double System::maxWheelOver(uint64_t n, const std::function<void()>& each_tick)
 {
+  // Every message counts (the hook), not only those a poll happens to see.
   double worst = 0.0;
+  uint64_t seen = 0;
+  status.setHook([&](const create_driver::SimStatus& s) {
+    worst = std::max(worst, std::max(std::fabs(s.left_wheel_velocity), std::fabs(s.right_wheel_velocity)));
+    ++seen;
+  });
   const uint64_t target = status.count() + n;
   waitFor([&] {
     if (each_tick)
       each_tick();
-    worst = std::max(worst, wheels());
     return status.count() >= target;
   });
-  return std::max(worst, wheels());
+  status.setHook({});
+  // Wheels that "stayed stopped" because the simulator went quiet prove nothing.
+  if (seen < n)
+  {
+    ADD_FAILURE() << "maxWheelOver: only " << seen << " of " << n << " simulator status messages arrived";
+    return std::numeric_limits<double>::infinity();
+  }
+  return worst;
 }
 
 bool System::diag(const std::string& status_suffix, const std::string& key, double* value)

@@ -90,7 +90,8 @@ struct System
   bool waitWheelsStopped(double timeout_s = kTimeout);
   /// Publishes cmd_vel at 10 Hz until @p cond holds.
   bool driveUntil(double linear, double angular, const std::function<bool()>& cond, double timeout_s = kTimeout);
-  /// Largest |commanded wheel speed| over the next @p n simulator status messages.
+  /// Largest |commanded wheel speed| over the next @p n simulator status messages; a test failure
+  /// and +inf if fewer than @p n arrive (the usual timeout).
   double maxWheelOver(uint64_t n, const std::function<void()>& each_tick = {});
   /// Latest diagnostic value (waits for a /diagnostics message containing it).
   bool diag(const std::string& status_suffix, const std::string& key, double* value);

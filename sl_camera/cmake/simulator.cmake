@@ -54,4 +54,6 @@ function(sl_camera_simulator_tests)
     SL_CAMERA_SCENES_DIR="${CMAKE_CURRENT_SOURCE_DIR}/scenes"
     SL_PROJECTOR_CONFIG_DIR="${sl_projector_SOURCE_PREFIX}/config")
   add_dependencies(sim_camera_rostest sim_camera_node sl_camera_nodelets)
+  # The same client on a simulated clock (only its SimCameraClock tests).
+  add_rostest(test/sim_camera_clock.test DEPENDENCIES sim_camera_rostest)
 endfunction()

@@ -1,10 +1,12 @@
 // PlayerSource: replays folders of images (generated here) and video files, paced, looped, in mono8.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -135,30 +137,70 @@ TEST(CameraPlayer, LoopStartsOver)
   EXPECT_EQ(values, (std::vector<int>{ 100, 101, 102, 100, 101, 102, 100, 101 }));
 }
 
+/// Simulated time for the pacing: sleeping moves it on at once by exactly the time asked for.
+class FakePacingClock : public PlayerSource::PacingClock
+{
+public:
+  std::chrono::steady_clock::time_point now() override
+  {
+    return now_;
+  }
+  void sleepUntil(std::chrono::steady_clock::time_point t) override
+  {
+    now_ = std::max(now_, t);
+  }
+  void advance(std::chrono::steady_clock::duration d)
+  {
+    now_ += d;
+  }
+
+private:
+  std::chrono::steady_clock::time_point now_{ std::chrono::hours(1) };
+};
+
 TEST(CameraPlayer, PacesAtTheRate)
 {
+  using std::chrono::milliseconds;
   TempDir dir;
   writeGrey(dir.file("a.png"), 1);
   const double rate = 40.0;
+  const std::chrono::steady_clock::duration period = milliseconds(25);  // 1 / rate
   PlayerSource player(dir.path(), rate, true);
+  auto clock = std::make_shared<FakePacingClock>();
+  player.setPacingClock(clock);
   player.open();
   EXPECT_DOUBLE_EQ(player.nominalRate(), rate);
   Frame frame;
-  ASSERT_EQ(player.grab(frame, std::chrono::milliseconds(1)), GrabStatus::Frame);  // the first is due at once
-  const auto first = frame.stamp;
-  const int n = 6;
-  for (int i = 1; i < n; ++i)
-    ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
-  // Never faster than the rate (a lower bound only: sleeping never returns early).
-  const double elapsed = std::chrono::duration<double>(frame.stamp - first).count();
-  EXPECT_GE(elapsed, (n - 1) / rate * 0.9);
+  ASSERT_EQ(player.grab(frame, milliseconds(0)), GrabStatus::Frame);  // the first is due at once
+  const auto first = clock->now();
+  // Each further frame exactly one period after the previous one: the player sleeps until it is due.
+  for (int i = 1; i < 6; ++i)
+  {
+    ASSERT_EQ(player.grab(frame, milliseconds(1000)), GrabStatus::Frame);
+    EXPECT_EQ(clock->now() - first, i * period) << "frame " << i;
+  }
+  // Not due yet: a timeout shorter than the wait gives Timeout after sleeping the timeout.
+  const auto t = clock->now();
+  EXPECT_EQ(player.grab(frame, milliseconds(0)), GrabStatus::Timeout);
+  EXPECT_EQ(clock->now(), t);
+  EXPECT_EQ(player.grab(frame, milliseconds(5)), GrabStatus::Timeout);
+  EXPECT_EQ(clock->now(), t + milliseconds(5));
+  // A consumer that fell behind by ten periods gets one frame at once, then the pace again: no burst.
+  clock->advance(10 * period);
+  EXPECT_EQ(player.grab(frame, milliseconds(0)), GrabStatus::Frame);
+  const auto late = clock->now();
+  EXPECT_EQ(player.grab(frame, milliseconds(0)), GrabStatus::Timeout);
+  ASSERT_EQ(player.grab(frame, milliseconds(1000)), GrabStatus::Frame);
+  EXPECT_EQ(clock->now() - late, period);
+  EXPECT_EQ(frame.sequence, 7u);
 
-  // While the next frame is not due, a short timeout gives Timeout (next frame in 10 s here).
+  // The real clock is the default: the next frame of a 0.1 Hz player is 10 s away.
   PlayerSource slow(dir.path(), 0.1, true);
   slow.open();
-  ASSERT_EQ(slow.grab(frame, std::chrono::milliseconds(1)), GrabStatus::Frame);
-  EXPECT_EQ(slow.grab(frame, std::chrono::milliseconds(0)), GrabStatus::Timeout);
-  EXPECT_EQ(slow.grab(frame, std::chrono::milliseconds(5)), GrabStatus::Timeout);
+  ASSERT_EQ(slow.grab(frame, milliseconds(1)), GrabStatus::Frame);
+  EXPECT_EQ(slow.grab(frame, milliseconds(0)), GrabStatus::Timeout);
+  EXPECT_EQ(slow.grab(frame, milliseconds(5)), GrabStatus::Timeout);
+  EXPECT_THROW(slow.setPacingClock(nullptr), std::invalid_argument);
 }
 
 TEST(CameraPlayer, ConvertsColourAnd16BitToMono8)

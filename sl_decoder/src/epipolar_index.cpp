@@ -98,6 +98,10 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
   std::vector<int32_t> stamp(blocks, -1);
   const double reach = config.epipolar_tolerance + 1.0;
   const double inv_near = 1.0 / config.min_depth, inv_far = 1.0 / config.max_depth;
+  // A curve longer than twice the image's perimeter lies mostly outside the image (a strong
+  // distortion, a huge focal length): its samples are capped there, or a rig with camera
+  // D: [0, 0, 0, 0, 1e8] took minutes to index. Real rigs' curves are a few hundred px.
+  const double max_samples = 2.0 * (cam.width + cam.height) / 0.75;
   Eigen::Vector2d dir_sum = Eigen::Vector2d::Zero();
   visible_ = 0;
   for (int i = 0; i < n; ++i)
@@ -107,7 +111,8 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
       continue;
     const Eigen::Vector2d a = cam.project(p_near), b = cam.project(p_far);
     const double length = (a - b).norm();
-    const int samples = std::max(2, static_cast<int>(std::ceil(length / 0.75)) + 1);
+    const double wanted = std::isfinite(length) ? std::ceil(length / 0.75) + 1.0 : max_samples;
+    const int samples = static_cast<int>(std::max(2.0, std::min(wanted, max_samples)));
     bool seen = false;
     for (int k = 0; k < samples; ++k)
     {

@@ -4,8 +4,13 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <string>
 #include <vector>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -106,15 +111,41 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
       "no_tf/points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++bad; });
   ros::Subscriber no_tf_rays = nh.subscribe<sensor_msgs::PointCloud2>(
       "no_tf/ray_ends", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++bad; });
+  // Publishing nothing proves nothing unless the decoder without a transform was decoding all along:
+  // its diagnostics count the frames it decoded, the points of the last one and the failed look-ups.
+  std::mutex mutex;
+  std::map<std::string, double> no_tf_diag;
+  ros::Subscriber diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 20, [&](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
+        for (const auto& status : msg->status)
+          if (status.name == "decoder_no_tf: decoding")
+          {
+            std::lock_guard<std::mutex> lock(mutex);
+            for (const auto& kv : status.values)
+              no_tf_diag[kv.key] = std::atof(kv.value.c_str());
+          }
+      });
+  const auto diag = [&](const std::string& key) {
+    std::lock_guard<std::mutex> lock(mutex);
+    const auto it = no_tf_diag.find(key);
+    return it == no_tf_diag.end() ? -1.0 : it->second;
+  };
   ros::AsyncSpinner spinner(1);
   spinner.start();
   // Both decoders see the same images; wait until the one with a transform has published a few
-  // clouds since both were subscribed.
+  // clouds since both were subscribed, and the other has reported as many decoded frames.
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (good < 6 && ros::WallTime::now() < give_up)
+  while ((good < 6 || diag("frames") < 6) && ros::WallTime::now() < give_up)
     ros::WallDuration(0.05).sleep();
   EXPECT_GE(good.load(), 6) << "the decoder with a transform published too little";
   EXPECT_EQ(bad.load(), 0) << "points or ray ends published without a transform to their frame";
+  // It decoded the wall (about 840 points a frame, as the other decoder) and then found no transform
+  // for every frame (the count is read apart from the frames, so it may trail by one).
+  const double frames = diag("frames");
+  EXPECT_GE(frames, 6.0) << "the decoder without a transform decoded too little (-1: no diagnostics)";
+  EXPECT_GT(diag("valid points"), 600.0) << "the decoder without a transform found no wall";
+  EXPECT_GE(diag("tf failures"), frames - 1.0) << "frames decoded but no failed look-up counted";
+  EXPECT_GT(diag("tf failures"), 0.0);
 }
 
 int main(int argc, char** argv)

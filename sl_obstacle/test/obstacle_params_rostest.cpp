@@ -264,6 +264,43 @@ TEST(RayConversion, MissingFieldsAreNamed)
   EXPECT_TRUE(rays.empty()) << "a refused cloud adds nothing";
 }
 
+// Found by fuzz/cloud_conversion_fuzz.cpp (corpus: empty_cloud_4e9_rows_hang): a cloud of width 0
+// passed the layout check whatever its height, and appendRays() walked every empty row: 3 s per
+// cloud of height 4e9 in a release build, over 10 s in the fuzz build. Ten seconds of such clouds
+// at 10 Hz (100 calls) ran past this rostest's time limit.
+TEST(RayConversion, EmptyCloudOfAnyHeightAddsNothingAtOnce)
+{
+  geometry_msgs::Transform identity;
+  identity.rotation.w = 1.0;
+  sensor_msgs::PointCloud2 c = rayCloud({ { 1, 0, 0, 0, 0, 0, kRayDark } });
+  c.width = 0;
+  c.height = std::numeric_limits<uint32_t>::max();
+  std::vector<MapRay> rays;
+  for (int i = 0; i < 100; ++i)
+  {
+    ASSERT_EQ(appendRays(c, identity, i % 2 == 0, rays), "");
+  }
+  EXPECT_TRUE(rays.empty());
+  std::vector<Point> points;
+  EXPECT_EQ(convertCloud(c, identity, points), "");
+  EXPECT_TRUE(points.empty());
+}
+
+// Found by fuzz/cloud_conversion_fuzz.cpp (corpus: state_offset_4294967295_oob_read): the state
+// field's offset + 1 wrapped to 0 in 32 bits, passed the point_step check, and each ray's state was
+// read from the byte before its point.
+TEST(RayConversion, StateOffsetOutsideThePointIsRefused)
+{
+  geometry_msgs::Transform identity;
+  identity.rotation.w = 1.0;
+  sensor_msgs::PointCloud2 c = rayCloud({ { 1, 0, 0, 0, 0, 0, kRayDark }, { 2, 0, 0, 0, 0, 0, kRayLit } });
+  c.fields.back().offset = std::numeric_limits<uint32_t>::max();
+  std::vector<MapRay> rays;
+  const std::string e = appendRays(c, identity, true, rays);
+  EXPECT_NE(e.find("field state must be UINT8 inside point_step"), std::string::npos) << e;
+  EXPECT_TRUE(rays.empty());
+}
+
 TEST(ObstacleParams, ConfigValidationForReconfigure)
 {
   ObstacleConfig c = ObstacleConfig::__getDefault__();

@@ -1,5 +1,6 @@
 // Rig (calibration) file reading, writing and validation.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -162,6 +163,30 @@ void requireThat(bool ok, const std::string& key, const std::string& what)
     throw std::invalid_argument(key + ": " + what);
 }
 
+// A frame id as ROS names are written: letters, digits, '_' and '/'.
+bool isFrameName(const std::string& name)
+{
+  if (name.empty())
+    return false;
+  for (const char c : name)
+  {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '/';
+    if (!ok)
+      return false;
+  }
+  return true;
+}
+
+// @p text for a message: non-printable bytes as '?', at most 64 of them.
+std::string printable(const std::string& text)
+{
+  std::string out = text.substr(0, 64);
+  for (char& c : out)
+    if (c < 0x20 || c > 0x7e)
+      c = '?';
+  return out;
+}
+
 void validatePinhole(const PinholeModel& m, const std::string& name)
 {
   requireThat(m.width > 0, name + ".width", "must be > 0");
@@ -210,6 +235,10 @@ void Rig::validate() const
     throw std::invalid_argument(std::string("pattern.") + e.what());
   }
   requireThat(mount.xyz.allFinite() && mount.rpy.allFinite(), "mount", "must be finite");
+  // The URDF and tf take it as it is. Control bytes or invalid UTF-8 did not even survive
+  // rigToYaml() (found by fuzz/rig_parser_fuzz.cpp).
+  requireThat(isFrameName(mount.parent_frame), "mount.parent_frame",
+              "must be a frame name (letters, digits, '_' and '/'), got '" + printable(mount.parent_frame) + "'");
   const size_t cells = static_cast<size_t>(pattern.rows) * static_cast<size_t>(pattern.cols);
   requireThat(tables.linear.empty() || tables.linear.size() == cells, "depth_tables.linear",
               "must have rows * cols entries");
@@ -315,16 +344,30 @@ Rig loadRig(const std::string& path)
 
 namespace
 {
+// The shortest text that reads back as the same double, so that a rig written and read again is
+// the same rig. Rounded to 12 digits, a baseline of 0.1000000000001 mm became the 0.1 mm limit and
+// parseRig() refused what rigToYaml() wrote (found by fuzz/rig_parser_fuzz.cpp).
+std::string exactText(double x)
+{
+  if (std::isnan(x))
+    return ".nan";  // YAML's NaN literal: an entry without a value
+  if (std::isinf(x))
+    return x > 0.0 ? ".inf" : "-.inf";
+  char text[32];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof(text), x);
+  std::string s(text, r.ptr);
+  // "5e-04" is a string to YAML 1.1 readers (PyYAML): a float needs its '.'.
+  const size_t e = s.find('e');
+  if (e != std::string::npos && s.find('.') == std::string::npos)
+    s.insert(e, ".0");
+  return s;
+}
+
 void emitNumbers(YAML::Emitter& out, const std::vector<double>& v)
 {
   out << YAML::Flow << YAML::BeginSeq;
   for (double x : v)
-  {
-    if (std::isnan(x))
-      out << ".nan";  // YAML's NaN literal: an entry without a value
-    else
-      out << x;
-  }
+    out << exactText(x);
   out << YAML::EndSeq;
 }
 
@@ -372,7 +415,6 @@ void emitModels(YAML::Emitter& out, const std::string& name, const std::vector<D
 std::string rigToYaml(const Rig& rig)
 {
   YAML::Emitter out;
-  out.SetDoublePrecision(12);
   out << YAML::BeginMap;
   out << YAML::Key << "format_version" << YAML::Value << 1;
   emitPinhole(out, "camera", rig.camera);

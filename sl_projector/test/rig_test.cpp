@@ -161,6 +161,48 @@ TEST(Rig, RoundTripsThroughYamlWithTables)
   EXPECT_NEAR(back.tables.rational[0].depth(100.0), (1.0 - 0.1) / (1.0 + 0.01), 1e-12);
 }
 
+// Found by fuzz/rig_parser_fuzz.cpp (corpus: baseline_at_limit_round_trip.yaml): written with 12
+// digits, a baseline of 0.1000000000001 mm came back as the 0.1 mm limit and the written file was
+// refused. Every number now reads back exactly, and the file stays readable.
+TEST(Rig, RoundTripIsExact)
+{
+  Rig rig = loadRig(kDefaultRig);
+  rig.projector_pose.translation = Eigen::Vector3d(1.000000000000001e-4, 0.0, 0.0);
+  rig.camera.fx = 1492.0000000000002;
+  rig.camera.dist[4] = 1e-300;
+  rig.mount.rpy.z() = -M_PI / 7.0;
+  rig.validate();
+  const std::string yaml = rigToYaml(rig);
+  Rig back;
+  ASSERT_NO_THROW(back = parseRig(yaml, "round trip")) << yaml;
+  EXPECT_EQ(back.projector_pose.translation, rig.projector_pose.translation);
+  EXPECT_EQ(back.projector_pose.rotation, rig.projector_pose.rotation);
+  EXPECT_EQ(back.camera.fx, rig.camera.fx);
+  EXPECT_EQ(back.camera.dist, rig.camera.dist);
+  EXPECT_EQ(back.mount.rpy, rig.mount.rpy);
+  EXPECT_NE(yaml.find("width: 752"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("D: [-0.08, 0.12, 5.0e-04, -3.0e-04, 1.0e-300]"), std::string::npos)
+      << "an exponent keeps a '.' (a float to YAML 1.1 readers too):\n"
+      << yaml;
+  EXPECT_NE(yaml.find("rotation: [0.994001447, -0.0269034905,"), std::string::npos) << "short numbers stay short:\n"
+                                                                                   << yaml;
+}
+
+// Found by fuzz/rig_parser_fuzz.cpp (corpus: parent_frame_binary_round_trip.yaml): a parent frame
+// ending in control bytes and invalid UTF-8 was accepted, and rigToYaml() wrote another frame.
+TEST(Rig, ParentFrameMustBeAFrameName)
+{
+  const std::string good = readFile(kDefaultRig);
+  const std::string line = "parent_frame: platform_edge";
+  const std::string binary = replaced(good, line, line + "\xff\xff" + "\x02");
+  const std::string e = parseError(binary);
+  EXPECT_NE(e.find("mount.parent_frame: must be a frame name (letters, digits, '_' and '/')"), std::string::npos) << e;
+  EXPECT_NE(e.find("got 'platform_edge" + std::string(3, '?') + "'"), std::string::npos) << "bytes shown as '?': " << e;
+  EXPECT_NE(parseError(replaced(good, line, "parent_frame: 'base link'")).find("mount.parent_frame"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, line, "parent_frame: ''")).find("mount.parent_frame"), std::string::npos);
+  EXPECT_EQ(parseError(replaced(good, line, "parent_frame: /robot/base_link2")), "");
+}
+
 TEST(Rig, BadFilesNameTheKey)
 {
   const std::string good = readFile(kDefaultRig);

@@ -4,8 +4,10 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <system_error>
 #include <thread>
+#include <utility>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -19,6 +21,18 @@ namespace sl_camera
 
 namespace
 {
+struct SteadyPacingClock : PlayerSource::PacingClock
+{
+  std::chrono::steady_clock::time_point now() override
+  {
+    return std::chrono::steady_clock::now();
+  }
+  void sleepUntil(std::chrono::steady_clock::time_point t) override
+  {
+    std::this_thread::sleep_until(t);
+  }
+};
+
 std::string lowerExtension(const std::string& path)
 {
   std::string ext = fs::path(path).extension().string();
@@ -34,7 +48,8 @@ bool PlayerSource::isImageFile(const std::string& path)
   return std::any_of(std::begin(extensions), std::end(extensions), [&](const char* e) { return ext == e; });
 }
 
-PlayerSource::PlayerSource(const std::string& path, double rate, bool loop) : path_(path), rate_(rate), loop_(loop)
+PlayerSource::PlayerSource(const std::string& path, double rate, bool loop)
+  : path_(path), rate_(rate), loop_(loop), clock_(std::make_shared<SteadyPacingClock>())
 {
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw std::invalid_argument("player rate must be a finite rate > 0 Hz, got " + std::to_string(rate));
@@ -147,6 +162,13 @@ bool PlayerSource::readVideoFrame(cv::Mat& image)
   }
 }
 
+void PlayerSource::setPacingClock(std::shared_ptr<PacingClock> clock)
+{
+  if (!clock)
+    throw std::invalid_argument("player: pacing clock is null");
+  clock_ = std::move(clock);
+}
+
 GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
 {
   using std::chrono::steady_clock;
@@ -159,7 +181,7 @@ GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
 
   // Pacing: one frame per period; a consumer that fell behind does not cause a burst.
   const auto period = std::chrono::duration_cast<steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_));
-  steady_clock::time_point now = steady_clock::now();
+  steady_clock::time_point now = clock_->now();
   if (!started_)
   {
     next_due_ = now;
@@ -169,11 +191,11 @@ GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
   {
     if (next_due_ - now > timeout)
     {
-      std::this_thread::sleep_for(timeout);
+      clock_->sleepUntil(now + timeout);
       return GrabStatus::Timeout;
     }
-    std::this_thread::sleep_until(next_due_);
-    now = steady_clock::now();
+    clock_->sleepUntil(next_due_);
+    now = clock_->now();
   }
   next_due_ += period;
   if (next_due_ < now)

@@ -13,10 +13,12 @@ namespace
 {
 struct FieldReader
 {
-  int offset = -1;
+  // An offset up to 4294967295 (not int: one over 2^31 turned negative).
+  std::size_t offset = 0;
   std::uint8_t datatype = 0;
+  bool found = false;
 
-  bool valid() const { return offset >= 0; }
+  bool valid() const { return found; }
 
   double read(const std::uint8_t* point) const
   {
@@ -49,8 +51,9 @@ std::string findField(const sensor_msgs::PointCloud2& cloud, const char* name, b
     {
       return std::string("field ") + name + " lies outside point_step";
     }
-    reader.offset = static_cast<int>(f.offset);
+    reader.offset = f.offset;
     reader.datatype = f.datatype;
+    reader.found = true;
     return std::string();
   }
   return required ? std::string("no field ") + name : std::string();
@@ -85,18 +88,20 @@ std::string readTransform(const geometry_msgs::Transform& transform, tf2::Matrix
   return std::string();
 }
 
-/// The uint8 field @p name: its offset, or -1 with a message.
-std::string findStateField(const sensor_msgs::PointCloud2& cloud, const char* name, int& offset)
+/// The uint8 field @p name: its offset, or a message.
+std::string findStateField(const sensor_msgs::PointCloud2& cloud, const char* name, std::size_t& offset)
 {
   for (const sensor_msgs::PointField& f : cloud.fields)
   {
     if (f.name == name)
     {
-      if (f.datatype != sensor_msgs::PointField::UINT8 || f.offset + 1 > cloud.point_step)
+      // In 64 bits: offset 4294967295 + 1 wrapped to 0 in 32 and passed, and the state was read
+      // from the byte before each point.
+      if (f.datatype != sensor_msgs::PointField::UINT8 || std::size_t{ f.offset } + 1 > cloud.point_step)
       {
         return std::string("field ") + name + " must be UINT8 inside point_step";
       }
-      offset = static_cast<int>(f.offset);
+      offset = f.offset;
       return std::string();
     }
   }
@@ -163,10 +168,16 @@ std::string appendRays(const sensor_msgs::PointCloud2& cloud, const geometry_msg
       return e;
     }
   }
-  int state_offset = -1;
+  std::size_t state_offset = 0;
   if (ray_ends && !(e = findStateField(cloud, "state", state_offset)).empty())
   {
     return e;
+  }
+  if (static_cast<std::size_t>(cloud.width) * cloud.height == 0)
+  {
+    // No points. Checked first: a cloud of width 0 and height 4e9 passes the layout check, and
+    // walking its empty rows below took seconds per cloud.
+    return std::string();
   }
   tf2::Matrix3x3 r;
   tf2::Vector3 t;

@@ -176,7 +176,8 @@ Rig loadRig(const std::string& path);
 /// @throws RigFileError as loadRig().
 Rig parseRig(const std::string& yaml_text, const std::string& source = "<string>");
 
-/// @brief Serialises a rig to YAML text (round-trips through parseRig()).
+/// @brief Serialises a rig to YAML text (round-trips through parseRig(): every number reads back
+/// exactly).
 std::string rigToYaml(const Rig& rig);
 
 /// @brief Writes a rig file. @throws RigFileError if it cannot be written.

@@ -63,6 +63,16 @@ public:
   /** True if @p path has one of the image extensions listed above. */
   static bool isImageFile(const std::string& path);
 
+  /** Time source of the pacing (not of the stamps): steady_clock and real sleeps by default. */
+  struct PacingClock
+  {
+    virtual ~PacingClock() = default;
+    virtual std::chrono::steady_clock::time_point now() = 0;
+    virtual void sleepUntil(std::chrono::steady_clock::time_point t) = 0;
+  };
+  /** Replaces the pacing clock (tests pace on a simulated clock); call before the first grab(). */
+  void setPacingClock(std::shared_ptr<PacingClock> clock);
+
 private:
   bool openVideo();
   bool readVideoFrame(cv::Mat& image);
@@ -78,6 +88,7 @@ private:
   std::uint64_t sequence_ = 0;
   bool started_ = false;
   std::chrono::steady_clock::time_point next_due_;
+  std::shared_ptr<PacingClock> clock_;
 };
 
 }  // namespace sl_camera

@@ -124,9 +124,10 @@ void RayClassifier::precompute(const sl_projector::Rig& rig, const DecoderConfig
     auto pixelAt = [&](double z) { return cam.project(o + ((z - o.z()) / d.z()) * d); };
     const Eigen::Vector2d a = pixelAt(decoder_config.min_depth), b = pixelAt(config_.max_range);
     const double length = (a - b).norm();
-    const int count = std::isfinite(length) ?
-                          std::min(kMaxSamples, std::max(2, static_cast<int>(std::ceil(length / kSampleSpacing)) + 1)) :
-                          2;
+    // Bounded in double: a curve of 5e13 px (projector D: [0.02, 0, 0, 2, 0]) overflowed int
+    // (found by fuzz/decoder_rig_fuzz.cpp).
+    const double wanted = std::isfinite(length) ? std::ceil(length / kSampleSpacing) + 1.0 : 2.0;
+    const int count = static_cast<int>(std::min<double>(kMaxSamples, std::max(2.0, wanted)));
     int32_t last_block = -1;
     for (int k = 0; k < count; ++k)
     {

@@ -26,6 +26,7 @@ void stateOf(const FilterOutput& out, std::uint8_t& state, std::uint8_t& reason)
     case FilterReason::INVALID_COMMAND: state = S::STOPPED; reason = S::REASON_INVALID_COMMAND; return;
   }
 }
+}  // namespace
 
 geometry_msgs::Point point(double x, double y, double z)
 {
@@ -35,7 +36,6 @@ geometry_msgs::Point point(double x, double y, double z)
   p.z = z;
   return p;
 }
-}  // namespace
 
 void fillFilterStatus(const FilterOutput& out, const Velocity& input, ObstacleStatus& s)
 {

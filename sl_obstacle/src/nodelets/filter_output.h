@@ -9,6 +9,9 @@
 
 namespace sl_obstacle
 {
+/// A geometry_msgs::Point (for marker vertices).
+geometry_msgs::Point point(double x, double y, double z);
+
 /// Fills the decision part of @p status (state, reason, command, filter fields) from one filter step
 /// on the command @p input.
 void fillFilterStatus(const FilterOutput& out, const Velocity& input, ObstacleStatus& status);

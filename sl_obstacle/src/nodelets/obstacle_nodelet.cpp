@@ -830,15 +830,6 @@ void ObstacleNodelet::publishStatus(const Decision* d, const ros::Time& now)
 
 namespace
 {
-geometry_msgs::Point point(double x, double y, double z)
-{
-  geometry_msgs::Point p;
-  p.x = x;
-  p.y = y;
-  p.z = z;
-  return p;
-}
-
 std_msgs::ColorRGBA color(float r, float g, float b, float a)
 {
   std_msgs::ColorRGBA c;

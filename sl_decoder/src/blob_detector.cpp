@@ -1,6 +1,8 @@
 #include "sl_decoder/blob_detector.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -272,28 +274,349 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
     a.peak = std::max(a.peak, run.peak);
   }
 
-  // Filter and finish in place.
+  // Filter and finish in place; oversized components with contrast are split afterwards.
   size_t kept = 0;
+  oversized_.clear();
   for (size_t i = 0; i < blobs.size(); ++i)
   {
     Blob b = blobs[i];
     const Acc& a = acc[i];
-    const int bw = b.width(), bh = b.height();
-    if (b.area < config_.min_area || b.area > config_.max_area || bw < config_.min_width ||
-        bh < config_.min_height || bw > config_.max_width || bh > config_.max_height)
-      continue;
-    if (static_cast<double>(bw) > config_.max_aspect * bh)
-      continue;
-    if (b.area < config_.min_fill * bw * bh)
-      continue;
-    if (a.peak < config_.min_contrast || a.sw <= 0.f)
+    if (a.peak < config_.min_contrast || a.sw <= 0.f || b.area < config_.min_area)
       continue;
     b.u = a.swx / a.sw;
     b.v = a.swy / a.sw;
     b.contrast = a.peak;
-    blobs[kept++] = b;
+    if (primitiveSized(b) && !merged(b))
+      blobs[kept++] = b;
+    else if (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height || b.area > config_.max_area ||
+             static_cast<double>(b.width()) > config_.max_aspect * b.height())
+      oversized_.push_back(b);
   }
   blobs.resize(kept);
+  for (const Blob& b : oversized_)
+    splitOversized(image, b, blobs);
+}
+
+bool BlobDetector::primitiveSized(const Blob& b) const
+{
+  const int bw = b.width(), bh = b.height();
+  return b.area >= config_.min_area && b.area <= config_.max_area && bw >= config_.min_width &&
+         bh >= config_.min_height && bw <= config_.max_width && bh <= config_.max_height &&
+         static_cast<double>(bw) <= config_.max_aspect * bh && b.area >= config_.min_fill * bw * bh;
+}
+
+void BlobDetector::splitOversized(const cv::Mat& image, const Blob& component, std::vector<Blob>& blobs)
+{
+  // Fractions of the component's grey range, from just above the local threshold to near its peak.
+  static constexpr float kLevels[kLastLevel] = { 0.5f, 0.65f, 0.78f, 0.88f, 0.95f };
+  int lo = 255, hi = 0;
+  for (int y = component.y0; y < component.y1; ++y)
+  {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (int x = component.x0; x < component.x1; ++x)
+    {
+      lo = std::min(lo, static_cast<int>(row[x]));
+      hi = std::max(hi, static_cast<int>(row[x]));
+    }
+  }
+  pending_.clear();
+  pending_.push_back(component);
+  pending_.back().level = 0;
+  // Breadth first: each oversized part is re-thresholded at the next level, inside its own box.
+  for (size_t k = 0; k < pending_.size(); ++k)
+  {
+    const Blob box = pending_[k];
+    const int level = box.level + 1;
+    if (level > kLastLevel)
+      continue;
+    const int threshold = lo + static_cast<int>(kLevels[level - 1] * static_cast<float>(hi - lo) + 0.5f);
+    if (hi - threshold < config_.min_contrast)
+      continue;
+    labelAbove(image, box, threshold);
+    for (Blob& part : parts_)
+    {
+      part.level = level;
+      const bool small = primitive_w_ <= 0.0 ||
+                         (part.width() <= 1.4 * primitive_w_ && part.height() <= 1.4 * primitive_h_);
+      if (primitiveSized(part) && small)
+      {
+        if (weighAbove(image, part, threshold))
+          blobs.push_back(part);
+      }
+      else if (level == kLastLevel && primitive_w_ > 0.0 && !cutByPitch(image, part, threshold, blobs))
+        cellsOfBand(image, part, (lo + hi) / 2, blobs);
+      else if (part.area > config_.min_area)
+        pending_.push_back(part);
+    }
+  }
+}
+
+bool BlobDetector::cutByPitch(const cv::Mat& image, const Blob& part, int threshold, std::vector<Blob>& blobs)
+{
+  // Saturated bridges do not split at any threshold: a row of primitives one pattern row tall is
+  // cut into equal pieces of the pattern's pitch (their shapes and centroids are checked later).
+  if (part.height() > 1.4 * primitive_h_ || pitch_ <= 0.0)
+    return false;
+  // k primitives merged span (k - 1) pitches plus one primitive (widened by the bridges' light).
+  const double w = part.width();
+  const int k = static_cast<int>(std::lround((w - primitive_w_) / pitch_)) + 1;
+  if (k < 2 || k > 6 || std::abs(w - primitive_w_ - (k - 1) * pitch_) > 0.4 * pitch_)
+    return false;
+  const double first = part.x0 + 0.5 * (w - (k - 1) * pitch_);  // centre of the first primitive
+  for (int i = 0; i < k; ++i)
+  {
+    Blob piece;
+    const double c = first + i * pitch_;
+    piece.x0 = std::max(part.x0, static_cast<int>(std::lround(c - 0.5 * pitch_)));
+    piece.x1 = std::min(part.x1, static_cast<int>(std::lround(c + 0.5 * pitch_)));
+    piece.y0 = part.y0;
+    piece.y1 = part.y1;
+    for (int y = piece.y0; y < piece.y1; ++y)
+    {
+      const uint8_t* row = image.ptr<uint8_t>(y);
+      for (int x = piece.x0; x < piece.x1; ++x)
+        piece.area += row[x] > threshold;
+    }
+    if (!weighAbove(image, piece, threshold))
+      continue;
+    piece.level = kLastLevel + 1;
+    if (primitiveSized(piece))
+      blobs.push_back(piece);
+  }
+  return true;
+}
+
+namespace
+{
+// Where the column x crosses @p t going outwards from row y_in (up for step -1, down for +1), with
+// linear interpolation between the two pixels; NaN if not within @p reach rows.
+float edgeAt(const cv::Mat& image, int x, int y_in, int step, int reach, int t)
+{
+  int prev = image.ptr<uint8_t>(y_in)[x];
+  for (int k = 1; k <= reach; ++k)
+  {
+    const int y = y_in + step * k;
+    if (y < 0 || y >= image.rows)
+      break;
+    const int v = image.ptr<uint8_t>(y)[x];
+    if (v <= t && prev > t)
+      return static_cast<float>(y - step) + static_cast<float>(step) * static_cast<float>(prev - t) /
+                                                   static_cast<float>(prev - v);
+    prev = v;
+  }
+  return std::numeric_limits<float>::quiet_NaN();
+}
+}  // namespace
+
+void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, std::vector<Blob>& blobs)
+{
+  // A saturated row of primitives: only its outline is left. Every shape lights its middle column
+  // from top to bottom, so the band's height peaks at the primitives' centres (their horizontal
+  // centroids): the phase of that periodic profile places them. Each shape has exactly one
+  // lopsided band at the top or the bottom (1: W L R, 2: W R L, 3: L R W, 4: R L W), so which edge
+  // is lopsided, and to which side, names the shape.
+  if (pitch_ <= 0.0 || band.width() < 3 * pitch_ || band.height() > 2.0 * primitive_h_)
+    return;
+  const int n = band.width();
+  const int y_mid = (band.y0 + band.y1) / 2;
+  const int reach = static_cast<int>(std::ceil(primitive_h_));
+  top_.resize(static_cast<size_t>(n));
+  bottom_.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i)
+  {
+    const int x = band.x0 + i;
+    top_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, -1, reach, t);
+    bottom_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, 1, reach, t);
+  }
+  // The phase of the height profile at the pattern's pitch, over +-3 pitches around x.
+  auto centreNear = [&](double x) {
+    const double omega = 2.0 * M_PI / pitch_;
+    double re = 0.0, im = 0.0;
+    const int i0 = std::max(0, static_cast<int>(x - band.x0 - 3.0 * pitch_));
+    const int i1 = std::min(n, static_cast<int>(x - band.x0 + 3.0 * pitch_));
+    for (int i = i0; i < i1; ++i)
+    {
+      const float h = bottom_[static_cast<size_t>(i)] - top_[static_cast<size_t>(i)];
+      if (!std::isfinite(h))
+        continue;
+      re += h * std::cos(omega * (band.x0 + i));
+      im += h * std::sin(omega * (band.x0 + i));
+    }
+    const double phase = std::atan2(im, re) / omega;  // a centre, modulo the pitch
+    return phase + std::round((x - phase) / pitch_) * pitch_;
+  };
+  auto mean = [&](const std::vector<float>& edge, double a, double b) {
+    double sum = 0.0;
+    int count = 0;
+    for (int i = std::max(0, static_cast<int>(std::ceil(a)) - band.x0);
+         i <= std::min(n - 1, static_cast<int>(std::floor(b)) - band.x0); ++i)
+      if (std::isfinite(edge[static_cast<size_t>(i)]))
+      {
+        sum += edge[static_cast<size_t>(i)];
+        ++count;
+      }
+    return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
+  };
+  const double half = 0.5 * pitch_;
+  for (double x = band.x0 + half; x < band.x1 - half; x += pitch_)
+  {
+    const double c = centreNear(x);
+    if (c - half < band.x0 || c + half > band.x1)
+      continue;
+    x = c;  // follow the local phase
+    // Up is negative: a top edge higher on the left is a left top band.
+    const double top_lr = mean(top_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(top_, c + 0.15 * pitch_, c + 0.45 * pitch_);
+    const double bottom_lr =
+        mean(bottom_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(bottom_, c + 0.15 * pitch_, c + 0.45 * pitch_);
+    const double yt = mean(top_, c - 1.0, c + 1.0), yb = mean(bottom_, c - 1.0, c + 1.0);
+    if (!std::isfinite(top_lr) || !std::isfinite(bottom_lr) || !std::isfinite(yt) || !std::isfinite(yb))
+      continue;
+    const bool top_lopsided = std::abs(top_lr) > std::abs(bottom_lr);
+    Blob cell;
+    cell.shape = top_lopsided ? (top_lr < 0.0 ? 3 : 4) : (bottom_lr > 0.0 ? 2 : 1);
+    // The lopsided edge against the straight one, in pixels.
+    cell.margin = static_cast<float>(std::abs(std::abs(top_lr) - std::abs(bottom_lr)));
+    cell.correlation = static_cast<float>(std::max(std::abs(top_lr), std::abs(bottom_lr)));
+    if (cell.margin < kBandMinMargin)
+      continue;
+    cell.u = static_cast<float>(c);
+    cell.v = static_cast<float>(0.5 * (yt + yb));  // the box centre; the decoder adds the shape's offset
+    cell.x0 = static_cast<int>(std::lround(c - 0.5 * primitive_w_));
+    cell.x1 = static_cast<int>(std::lround(c + 0.5 * primitive_w_));
+    cell.y0 = static_cast<int>(std::floor(yt));
+    cell.y1 = static_cast<int>(std::ceil(yb)) + 1;
+    cell.area = cell.width() * cell.height();
+    cell.contrast = static_cast<float>(band.contrast);
+    cell.level = kBandLevel;
+    blobs.push_back(cell);
+  }
+}
+
+namespace
+{
+// bits[i / 64] bit i % 64 = (row[i] > threshold) for i < n.
+void maskAbove(const uint8_t* row, int n, int threshold, uint64_t* bits)
+{
+  std::fill(bits, bits + (n + 63) / 64, uint64_t{ 0 });
+  int i = 0;
+#if defined(__SSE2__)
+  // Unsigned bytes compared as signed after flipping the top bit; i is a multiple of 16, so a group
+  // never straddles two words.
+  const __m128i bias = _mm_set1_epi8(static_cast<char>(0x80));
+  const __m128i t = _mm_set1_epi8(static_cast<char>(threshold ^ 0x80));
+  for (; i + 16 <= n; i += 16)
+  {
+    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + i)), bias);
+    const uint64_t m = static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpgt_epi8(v, t)));
+    bits[i >> 6] |= m << (i & 63);
+  }
+#endif
+  for (; i < n; ++i)
+    if (row[i] > threshold)
+      bits[i >> 6] |= uint64_t{ 1 } << (i & 63);
+}
+
+// The first index >= i below n whose bit equals @p set, or n.
+int nextBit(const uint64_t* bits, int n, int i, bool set)
+{
+  while (i < n)
+  {
+    uint64_t w = bits[i >> 6];
+    if (!set)
+      w = ~w;
+    w &= ~uint64_t{ 0 } << (i & 63);
+    if (w != 0)
+      return std::min(n, (i & ~63) + __builtin_ctzll(w));
+    i = (i & ~63) + 64;
+  }
+  return n;
+}
+}  // namespace
+
+void BlobDetector::labelAbove(const cv::Mat& image, const Blob& box, int threshold)
+{
+  // Runs above the threshold, row by row, joined 8-connected by union-find as in detect() (whose
+  // run buffers are free again by now). Only boxes and areas: centroids are taken for the parts
+  // kept (weighAbove).
+  parts_.clear();
+  runs_.clear();
+  const int n = box.width();
+  bits_.resize(static_cast<size_t>((n + 63) / 64) + 1);
+  int prev_begin = 0, prev_end = 0;
+  for (int y = box.y0; y < box.y1; ++y)
+  {
+    maskAbove(image.ptr<uint8_t>(y) + box.x0, n, threshold, bits_.data());
+    const int cur_begin = static_cast<int>(runs_.size());
+    for (int x = nextBit(bits_.data(), n, 0, true); x < n; x = nextBit(bits_.data(), n, x, true))
+    {
+      const int end = nextBit(bits_.data(), n, x, false);
+      runs_.emplace_back();
+      Run& run = runs_.back();
+      run.y = y;
+      run.x0 = box.x0 + x;
+      run.x1 = box.x0 + end;
+      run.parent = static_cast<int32_t>(runs_.size() - 1);
+      x = end;
+    }
+    const int cur_end = static_cast<int>(runs_.size());
+    int p = prev_begin;
+    for (int c = cur_begin; c < cur_end; ++c)
+    {
+      const Run& cr = runs_[static_cast<size_t>(c)];
+      while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
+        ++p;
+      for (int q = p; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
+        unite(c, q);
+    }
+    prev_begin = cur_begin;
+    prev_end = cur_end;
+  }
+  blob_of_root_.assign(runs_.size(), -1);
+  for (size_t i = 0; i < runs_.size(); ++i)
+  {
+    int32_t& index = blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))];
+    const Run& run = runs_[i];
+    if (index < 0)
+    {
+      index = static_cast<int32_t>(parts_.size());
+      Blob b;
+      b.x0 = run.x0;
+      b.x1 = run.x1;
+      b.y0 = run.y;
+      parts_.push_back(b);
+    }
+    Blob& b = parts_[static_cast<size_t>(index)];
+    b.x0 = std::min(b.x0, run.x0);
+    b.x1 = std::max(b.x1, run.x1);
+    b.y1 = run.y + 1;
+    b.area += run.x1 - run.x0;
+  }
+}
+
+bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) const
+{
+  double sw = 0.0, swx = 0.0, swy = 0.0;
+  int peak = 0;
+  for (int y = b.y0; y < b.y1; ++y)
+  {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (int x = b.x0; x < b.x1; ++x)
+    {
+      const int w = static_cast<int>(row[x]) - threshold;
+      if (w <= 0)
+        continue;
+      sw += w;
+      swx += static_cast<double>(w) * x;
+      swy += static_cast<double>(w) * y;
+      peak = std::max(peak, w);
+    }
+  }
+  if (sw <= 0.0)
+    return false;
+  b.u = static_cast<float>(swx / sw);
+  b.v = static_cast<float>(swy / sw);
+  b.contrast = static_cast<float>(peak);
+  return true;
 }
 
 }  // namespace sl_decoder

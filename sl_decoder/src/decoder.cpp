@@ -8,6 +8,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "sl_projector/primitives.h"
+
 namespace sl_decoder
 {
 
@@ -61,6 +63,11 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
     words_.reset();  // a pattern whose words repeat decodes from candidates and support alone
   }
   owner_.assign(cells, -1);
+  // A primitive's box in the image: its share of the pattern's cell, scaled by the local steps.
+  const sl_projector::PatternConfig& pc = rig.pattern;
+  detector_.setPrimitiveSize(index_->stepEast().norm() * pc.primitive_width / pc.cellWidth(),
+                             index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(),
+                             std::abs(index_->stepEast().x()));
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
   grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;
@@ -85,12 +92,15 @@ void Decoder::decode(const cv::Mat& image, DecodeResult& result)
 
   for (Blob& b : result.blobs)
   {
-    classifier_.classify(image, b);
-    if (b.shape > 0)
+    if (b.level == BlobDetector::kBandLevel)
+      placeBandCell(b);
+    else
     {
-      classifier_.refineCentroid(image, b);
-      ++result.identified;
+      classifier_.classify(image, b);
+      if (b.shape > 0)
+        classifier_.refineCentroid(image, b);
     }
+    result.identified += b.shape > 0;
   }
   result.times.classify = msSince(t);
 
@@ -105,6 +115,23 @@ void Decoder::decode(const cv::Mat& image, DecodeResult& result)
   result.times.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+void Decoder::placeBandCell(Blob& b) const
+{
+  // The detector read the outline as the camera shows it; the pattern may run right to left or
+  // bottom to top there (a mirrored or upside-down mounting): 1 W L R, 2 W R L, 3 L R W, 4 R L W.
+  static constexpr int kMirrorX[5] = { 0, 2, 1, 4, 3 };
+  static constexpr int kMirrorY[5] = { 0, 4, 3, 2, 1 };
+  if (index_->stepEast().x() < 0.0)
+    b.shape = kMirrorX[b.shape];
+  if (index_->stepSouth().y() < 0.0)
+    b.shape = kMirrorY[b.shape];
+  // From the box centre to the shape's centroid, which is what the decoder locates.
+  const sl_projector::PatternConfig& pc = rig_.pattern;
+  const double offset =
+      sl_projector::shapeCentroid(b.shape, pc.primitive_width, pc.primitive_height).y - 0.5 * (pc.primitive_height - 1);
+  b.v += static_cast<float>(offset * index_->stepSouth().y() / pc.cellHeight());
+}
+
 void Decoder::findCandidates(DecodeResult& result)
 {
   const int cols = rig_.pattern.cols;
@@ -115,22 +142,32 @@ void Decoder::findCandidates(DecodeResult& result)
   cands_.clear();
   // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
   // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
-  sizes_w_.clear();
-  sizes_h_.clear();
+  // Blobs split out of merged components were cut at a raised threshold: each level has its own
+  // typical size.
+  for (size_t l = 0; l < kSizeLevels; ++l)
+  {
+    sizes_w_[l].clear();
+    sizes_h_[l].clear();
+  }
+  auto levelOf = [](const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); };
   for (const Blob& b : result.blobs)
     if (b.shape > 0)
     {
-      sizes_w_.push_back(b.width());
-      sizes_h_.push_back(b.height());
+      sizes_w_[levelOf(b)].push_back(b.width());
+      sizes_h_[levelOf(b)].push_back(b.height());
     }
-  float median_w = 0.f, median_h = 0.f;
-  if (!sizes_w_.empty())
+  float median_w[kSizeLevels] = {}, median_h[kSizeLevels] = {};
+  for (size_t l = 0; l < kSizeLevels; ++l)
   {
-    const size_t mid = sizes_w_.size() / 2;
-    std::nth_element(sizes_w_.begin(), sizes_w_.begin() + static_cast<long>(mid), sizes_w_.end());
-    std::nth_element(sizes_h_.begin(), sizes_h_.begin() + static_cast<long>(mid), sizes_h_.end());
-    median_w = static_cast<float>(sizes_w_[mid]);
-    median_h = static_cast<float>(sizes_h_[mid]);
+    std::vector<int>& ws = sizes_w_[l];
+    std::vector<int>& hs = sizes_h_[l];
+    if (ws.empty())
+      continue;
+    const size_t mid = ws.size() / 2;
+    std::nth_element(ws.begin(), ws.begin() + static_cast<long>(mid), ws.end());
+    std::nth_element(hs.begin(), hs.begin() + static_cast<long>(mid), hs.end());
+    median_w[l] = static_cast<float>(ws[mid]);
+    median_h[l] = static_cast<float>(hs[mid]);
   }
   const float dev = static_cast<float>(config_.max_size_deviation);
   for (size_t bi = 0; bi < result.blobs.size(); ++bi)
@@ -140,8 +177,9 @@ void Decoder::findCandidates(DecodeResult& result)
     if (b.shape == 0)
       continue;
     // One pixel of slack: boxes are whole pixels.
-    if (std::abs(static_cast<float>(b.width()) - median_w) > dev * median_w + 1.f ||
-        std::abs(static_cast<float>(b.height()) - median_h) > dev * median_h + 1.f)
+    const float mw = median_w[levelOf(b)], mh = median_h[levelOf(b)];
+    if (std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
+        std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f)
       continue;
     const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);
     const Eigen::Vector3d d1 = ray.normalized();
@@ -279,10 +317,30 @@ void Decoder::findNeighbours(DecodeResult& result)
   }
 }
 
+int Decoder::findCandidate(int blob, int primitive) const
+{
+  for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < cand_begin_[static_cast<size_t>(blob) + 1]; ++k)
+    if (cands_[static_cast<size_t>(k)].primitive == primitive)
+      return static_cast<int>(k);
+  return -1;
+}
+
+int Decoder::adjacent(int p, int d) const
+{
+  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
+  const int r = p / cols + kDRow[d], c = p % cols + kDCol[d];
+  return (r < 0 || c < 0 || r >= rows || c >= cols) ? -1 : r * cols + c;
+}
+
 void Decoder::correspond(DecodeResult& result)
 {
+  if (config_.identify_by_words && words_)
+  {
+    correspondByWords(result);
+    return;
+  }
   std::vector<Blob>& blobs = result.blobs;
-  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
+  const int cols = rig_.pattern.cols;
   const bool along_rows = index_->epipolarAlongRows();
   // Discriminating directions lie along the epipolar curves; the others confirm the shape.
   const uint8_t discriminating = along_rows ? static_cast<uint8_t>((1 << kWest) | (1 << kEast))
@@ -290,18 +348,6 @@ void Decoder::correspond(DecodeResult& result)
   const uint8_t confirming = static_cast<uint8_t>(0xF & ~discriminating);
   const float step = static_cast<float>(config_.max_depth_step);
 
-  // The candidate of blob @p blob for @p primitive, or -1.
-  auto findCandidate = [&](int blob, int primitive) {
-    for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < cand_begin_[static_cast<size_t>(blob) + 1]; ++k)
-      if (cands_[static_cast<size_t>(k)].primitive == primitive)
-        return static_cast<int>(k);
-    return -1;
-  };
-  // The primitive adjacent to @p p in direction @p d, or -1 outside the pattern.
-  auto adjacent = [&](int p, int d) {
-    const int r = p / cols + kDRow[d], c = p % cols + kDCol[d];
-    return (r < 0 || c < 0 || r >= rows || c >= cols) ? -1 : r * cols + c;
-  };
 
   // Support: a neighbour that has the adjacent primitive among its tight candidates, at a similar
   // depth.
@@ -456,6 +502,158 @@ void Decoder::correspond(DecodeResult& result)
     for (size_t g = 0; g < grow_.size(); g += 2)
       label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
   }
+
+  finishLabels(result);
+}
+
+void Decoder::correspondByWords(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  const int cols = rig_.pattern.cols;
+  const std::vector<int>& values = pattern_.array().values();
+  // The primitive each full word names. A misread shape gives a wrong word, but then the words of
+  // its neighbours do not fit around it.
+  word_.assign(blobs.size(), -1);
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    const Blob& b = blobs[i];
+    int shape[4];
+    bool full = b.shape > 0;
+    for (int d = 0; d < 4 && full; ++d)
+    {
+      const int n = b.neighbour[d];
+      shape[d] = n >= 0 ? blobs[static_cast<size_t>(n)].shape : 0;
+      full = shape[d] > 0;
+    }
+    if (!full)
+      continue;
+    const sl_projector::GridPos g = words_->lookup(b.shape, shape[kNorth], shape[kWest], shape[kSouth], shape[kEast]);
+    if (g.valid())
+      word_[i] = g.row * cols + g.col;
+  }
+  // A word is taken when at least two neighbours' words name the adjacent primitives and the
+  // geometry does not rule it out (one of the blob's candidates, within the loose tolerance).
+  label_.assign(blobs.size(), -1);
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    const int p = word_[i];
+    if (p < 0)
+      continue;
+    uint8_t agree = 0;
+    for (int d = 0; d < 4; ++d)
+    {
+      const int n = blobs[i].neighbour[d];
+      if (n >= 0 && word_[static_cast<size_t>(n)] >= 0 && word_[static_cast<size_t>(n)] == adjacent(p, d))
+        agree |= static_cast<uint8_t>(1 << d);
+    }
+    const int k = popcount4(agree) >= 2 ? findCandidate(static_cast<int>(i), p) : -1;
+    if (k >= 0)
+    {
+      cands_[static_cast<size_t>(k)].bits = agree;  // the support the confidence reports
+      label_[i] = k;
+    }
+  }
+  // Growth to blobs without a full word (the pattern's border, gaps): the primitive the decoded
+  // neighbours agree on, when the blob's shape and every neighbour's shape are the pattern's
+  // there, and either two decoded neighbours or three shapes around confirm it.
+  for (int round = 0; round < 16; ++round)
+  {
+    grow_.clear();
+    for (size_t i = 0; i < blobs.size(); ++i)
+    {
+      if (label_[i] >= 0 || blobs[i].shape == 0)
+        continue;
+      int implied = -1;
+      uint8_t agreeing = 0;
+      bool conflict = false;
+      for (int d = 0; d < 4 && !conflict; ++d)
+      {
+        const int n = blobs[i].neighbour[d];
+        if (n < 0 || label_[static_cast<size_t>(n)] < 0)
+          continue;
+        const int q = adjacent(cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive, kOpposite[d]);
+        conflict = q < 0 || (implied >= 0 && q != implied);
+        implied = q;
+        agreeing |= static_cast<uint8_t>(1 << d);
+      }
+      if (conflict || implied < 0 || values[static_cast<size_t>(implied)] != blobs[i].shape)
+        continue;
+      // The shapes around must be the pattern's around the implied primitive (a partial word).
+      int matches = 0, mismatches = 0;
+      for (int d = 0; d < 4; ++d)
+      {
+        const int n = blobs[i].neighbour[d], q = adjacent(implied, d);
+        if (n < 0 || blobs[static_cast<size_t>(n)].shape == 0)
+          continue;
+        if (q >= 0 && values[static_cast<size_t>(q)] == blobs[static_cast<size_t>(n)].shape)
+          ++matches;
+        else
+          ++mismatches;
+      }
+      if (mismatches > 0 || (popcount4(agreeing) < 2 && matches < 3))
+        continue;
+      const int k = findCandidate(static_cast<int>(i), implied);
+      if (k >= 0)
+      {
+        cands_[static_cast<size_t>(k)].bits = agreeing;
+        grow_.push_back(static_cast<int32_t>(i));
+        grow_.push_back(k);
+      }
+    }
+    if (grow_.empty())
+      break;
+    for (size_t g = 0; g < grow_.size(); g += 2)
+      label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
+  }
+  finishLabels(result);
+}
+
+bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const
+{
+  const std::vector<int>& values = pattern_.array().values();
+  int present = 0, mismatches = 0;
+  // Along a row from blob j (primitive p): up to @p reach blobs west and east, and j itself.
+  auto walkRow = [&](int j, int p, int reach) {
+    ++present;
+    mismatches += blobs[static_cast<size_t>(j)].shape != values[static_cast<size_t>(p)];
+    for (int d : { kWest, kEast })
+    {
+      int jj = j, pp = p;
+      for (int k = 0; k < reach; ++k)
+      {
+        jj = blobs[static_cast<size_t>(jj)].neighbour[d];
+        pp = adjacent(pp, d);
+        if (jj < 0 || pp < 0)
+          break;
+        ++present;
+        mismatches += blobs[static_cast<size_t>(jj)].shape != values[static_cast<size_t>(pp)];
+      }
+    }
+  };
+  walkRow(i, primitive, kRowCheck);
+  // The rows above and below, where the blob has such neighbours.
+  for (int d : { kNorth, kSouth })
+  {
+    const int j = blobs[static_cast<size_t>(i)].neighbour[d], p = adjacent(primitive, d);
+    if (j >= 0 && p >= 0)
+      walkRow(j, p, kRowCheck / 2);
+  }
+  // Six blobs all right, or nine with one misread: a wrong identity passes with odds of about 1e-3
+  // (random shapes), before the support and epipolar checks.
+  return (present >= 6 && mismatches == 0) || (present >= 9 && mismatches <= 1);
+}
+
+void Decoder::finishLabels(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  const int cols = rig_.pattern.cols;
+  // Blobs split out of merged ones, and cells read from a saturated band's outline, are identified
+  // with less certainty (in the harshest blur and overexposure most read wrong): the shapes along
+  // the row must spell the pattern's row.
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (label_[i] >= 0 && blobs[i].level > 0 &&
+        !rowSpellsPattern(blobs, static_cast<int>(i), cands_[static_cast<size_t>(label_[i])].primitive))
+      label_[i] = -1;
 
   // Validation: a decoded blob whose decoded neighbours mostly contradict it is undone.
   for (size_t i = 0; i < blobs.size(); ++i)

@@ -171,14 +171,25 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_camera::R
 SceneReport evaluateScene(const sl_projector::Rig& rig, const std::string& scene_path, const DecoderConfig& config,
                           int frames, const sl_camera::SimSettings& settings)
 {
-  SceneReport report;
-  const size_t slash = scene_path.find_last_of('/');
-  std::string stem = slash == std::string::npos ? scene_path : scene_path.substr(slash + 1);
+  return evaluateScene(rig, sl_camera::loadScene(scene_path), sceneStem(scene_path), config, frames, settings);
+}
+
+std::string sceneStem(const std::string& path)
+{
+  const size_t slash = path.find_last_of('/');
+  std::string stem = slash == std::string::npos ? path : path.substr(slash + 1);
   if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".yaml") == 0)
     stem.resize(stem.size() - 5);
-  report.scene = stem;
+  return stem;
+}
+
+SceneReport evaluateScene(const sl_projector::Rig& rig, const sl_camera::Scene& scene, const std::string& name,
+                          const DecoderConfig& config, int frames, const sl_camera::SimSettings& settings,
+                          uint64_t seed)
+{
+  SceneReport report;
+  report.scene = name;
   report.model = depthModeName(config.depth_mode);
-  const sl_camera::Scene scene = sl_camera::loadScene(scene_path);
   sl_camera::Renderer renderer(rig, settings);
   Decoder decoder(rig, config);
   const cv::Mat pattern = decoder.pattern().render();
@@ -187,11 +198,40 @@ SceneReport evaluateScene(const sl_projector::Rig& rig, const std::string& scene
   DecodeResult result;
   for (int f = 0; f < frames; ++f)
   {
-    renderer.render(scene, pattern, camera, static_cast<uint64_t>(1000 + f), truth);
+    renderer.render(scene, pattern, camera, seed + static_cast<uint64_t>(f), truth);
     decoder.decode(truth.image, result);
     report.stats.add(evaluateFrame(decoder.pattern(), truth, result));
   }
   return report;
+}
+
+sl_camera::Scene planeScene(const sl_projector::Rig& rig, double camera_distance, double albedo)
+{
+  // The camera's offset from platform_edge (the world origin) along x, as the scene files assume.
+  const double camera_x = sl_camera::cameraPoseInWorld(rig).translation().x();
+  sl_camera::Scene scene;
+  scene.name = "plane";
+  sl_camera::SceneObject floor;
+  floor.name = "floor";
+  floor.pose.linear() = Eigen::Matrix3d::Identity();  // normal +z
+  floor.material.albedo = 0.35;
+  floor.material.texture.type = sl_camera::TextureType::Noise;
+  floor.material.texture.scale = 0.05;
+  floor.material.texture.contrast = 0.3;
+  floor.floor = true;
+  sl_camera::SceneObject plane;
+  plane.name = "plane";
+  // Local z (the normal) towards the robot (-x); local x up, local y = z x x.
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d::UnitZ();
+  r.col(2) = -Eigen::Vector3d::UnitX();
+  r.col(1) = r.col(2).cross(r.col(0));
+  plane.pose.linear() = r;
+  plane.pose.translation() = Eigen::Vector3d(camera_x + camera_distance, 0.0, 1.0);
+  plane.size = Eigen::Vector3d(2.0, 2.0, 0.0);
+  plane.material.albedo = albedo;
+  scene.objects = { floor, plane };
+  return scene;
 }
 
 std::string defaultScenesDir()

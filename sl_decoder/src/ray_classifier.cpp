@@ -389,6 +389,8 @@ void RayClassifier::buildClaims(const DecodeResult& result)
         const size_t k = static_cast<size_t>(by * bw_ + bx);
         if (b.valid)
           claim_[k] = std::min(claim_[k], b.z);
+        else if (b.level > 0)
+          shape_[k] = 255;  // split out of a blurred, overexposed row: its shape is no proof of anything
         else
           shape_[k] = (shape_[k] == 0 || shape_[k] == b.shape) ? static_cast<uint8_t>(b.shape) : uint8_t(255);
       }

@@ -28,6 +28,8 @@ struct Blob
   int x1 = 0, y1 = 0;   ///< bounding box, one past the last column and row
   int area = 0;         ///< foreground pixels
   float contrast = 0.f; ///< peak height above the local mean, grey levels
+  int level = 0;        ///< 0: found by the local threshold; k > 0: split out of a merged, blurred
+                        ///< component at the k-th raised threshold (near range, heavy defocus)
   // Identification.
   int shape = 0;            ///< primitive value 1..4, 0 when not identified
   float correlation = 0.f;  ///< NCC with the chosen template

@@ -18,8 +18,14 @@ namespace sl_decoder
  * into 8-connected components, filtered for speckles, bands and oversized patches.
  *
  * Thresholding, run extraction and the centroid sums happen in one pass over the image, with the
- * local mean from running column sums; components are formed by union-find over runs. All buffers are reused across
- * calls: after the first image of a given size, detect() does not allocate.
+ * local mean from running column sums; components are formed by union-find over runs. All buffers
+ * are reused across calls: after the first image of a given size, detect() does not allocate.
+ *
+ * Near the camera, defocus and overexposure fill the gaps between primitives, so whole rows of them
+ * come out as one component. A component too large for a primitive is therefore re-thresholded
+ * inside its box at rising fractions of its grey range (like the stable regions of MSER): the
+ * bridges between primitives are dimmer than their cores, so at some level the parts that pass
+ * the filters appear. Such blobs carry the level in Blob::level.
  */
 class BlobDetector
 {
@@ -36,6 +42,23 @@ public:
    * @param[out] blobs cleared and filled (capacity reused).
    */
   void detect(const cv::Mat& image, std::vector<Blob>& blobs);
+
+  /**
+   * @brief The size of one primitive's box in the image (from the rig at the nominal depth), px.
+   * Components wider than 1.6 times it are split as merged; split parts may be at most 1.4 times
+   * it. @p pitch is the horizontal distance of neighbouring primitives: a row of them merged by
+   * saturated bridges is cut at that pitch. 0 (the default) disables these tests.
+   */
+  void setPrimitiveSize(double width, double height, double pitch)
+  {
+    primitive_w_ = width;
+    primitive_h_ = height;
+    pitch_ = pitch;
+  }
+
+  /// @brief Blob::level of primitives read from the outline of a saturated row: their shape and
+  /// centroid are set by the detector (the box's centre; the decoder adds the shape's offset).
+  static constexpr int kBandLevel = 7;
 
   /// @brief Number of components found before filtering in the last call.
   int componentCount() const { return components_; }
@@ -58,6 +81,21 @@ private:
   // library's PLT cost more than the work.
   inline int find(int i);
   inline void unite(int a, int b);
+  /// True when a finished blob passes the size, aspect and fill filters.
+  bool primitiveSized(const Blob& b) const;
+  /// True when a blob is wider than two merged primitives would need to be.
+  bool merged(const Blob& b) const { return primitive_w_ > 0.0 && b.width() > 1.6 * primitive_w_; }
+  /// Re-thresholds the box of an oversized component; parts that pass the filters join @p blobs.
+  void splitOversized(const cv::Mat& image, const Blob& component, std::vector<Blob>& blobs);
+  /// Cuts a saturated row of merged primitives into pieces of the pattern's pitch.
+  /// False (and nothing added) when the part is not a few primitives wide.
+  bool cutByPitch(const cv::Mat& image, const Blob& part, int threshold, std::vector<Blob>& blobs);
+  /// Places and identifies the primitives of a saturated row from its outline at grey level @p t.
+  void cellsOfBand(const cv::Mat& image, const Blob& band, int t, std::vector<Blob>& blobs);
+  /// Centroid (weights above @p threshold) and contrast of the pixels of @p b's box; false if none.
+  bool weighAbove(const cv::Mat& image, Blob& b, int threshold) const;
+  /// Labels the pixels of @p box above @p threshold (8-connected); parts (box and area) go to parts_.
+  void labelAbove(const cv::Mat& image, const Blob& box, int threshold);
 
   DecoderConfig config_;
   std::vector<int32_t> col_sum_;    // column sums over the window rows of the current row
@@ -68,6 +106,12 @@ private:
   std::vector<int32_t> blob_of_root_;
   std::vector<Acc> acc_;
   int components_ = 0;
+  double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
+  static constexpr int kLastLevel = 5;  // raised thresholds tried before cutting by the pitch
+  static constexpr float kBandMinMargin = 0.6f;  // px between the lopsided and the straight edge
+  std::vector<float> top_, bottom_;  // outline of a saturated band per column, px
+  // Splitting of oversized components (buffers reused).
+  std::vector<Blob> oversized_, pending_, parts_;
 };
 
 }  // namespace sl_decoder

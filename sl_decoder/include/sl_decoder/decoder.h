@@ -105,9 +105,24 @@ private:
     bool tight;       // within the epipolar tolerance (others, within twice it, only compete)
   };
 
+  /// Maps a cell read from a saturated band's outline into pattern terms and moves it to its centroid.
+  void placeBandCell(Blob& b) const;
   void findCandidates(DecodeResult& result);
   void findNeighbours(DecodeResult& result);
   void correspond(DecodeResult& result);
+  void correspondByWords(DecodeResult& result);
+  /// Undoes labels contradicted by their decoded neighbours and primitives claimed twice, then
+  /// writes the rest into the blobs.
+  void finishLabels(DecodeResult& result);
+  /// True when the shapes of the blobs around blob @p i (kRowCheck east and west, half as many in
+  /// the rows above and below; fewer at the pattern's border) are the pattern's around
+  /// @p primitive: six with no exception or nine with one.
+  bool rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const;
+  static constexpr int kRowCheck = 4;
+  /// The candidate of @p blob for @p primitive, or -1.
+  int findCandidate(int blob, int primitive) const;
+  /// The primitive adjacent to @p p in direction @p d, or -1 outside the pattern.
+  int adjacent(int p, int d) const;
   void computeDepth(DecodeResult& result);
 
   sl_projector::Rig rig_;
@@ -124,7 +139,9 @@ private:
   std::vector<int32_t> owner_;  // primitive -> blob, for duplicate detection
   std::vector<int32_t> label_;  // blob -> candidate index (working copy)
   std::vector<int32_t> grow_;   // (blob, candidate) pairs decoded in a growth round
-  std::vector<int> sizes_w_, sizes_h_;  // box sizes of identified blobs, for the median
+  std::vector<int32_t> word_;   // blob -> primitive its full word names, or -1 (identify_by_words)
+  static constexpr size_t kSizeLevels = 8;  // Blob::level values with their own median (more share the last)
+  std::vector<int> sizes_w_[kSizeLevels], sizes_h_[kSizeLevels];  // box sizes of identified blobs per level
   int grid_w_ = 0, grid_h_ = 0;
   size_t grid_cells_ = 0;  // grid_w_ * grid_h_, computed once in 64 bits
   double grid_cell_ = 1.0;

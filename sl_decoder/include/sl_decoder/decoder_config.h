@@ -61,6 +61,10 @@ struct DecoderConfig
   int min_support = 2;              ///< consistent neighbours a decoded primitive needs (1 if its candidate is unique)
   double min_confidence = 0.0;      ///< points below this confidence are not output
   DepthMode depth_mode = DepthMode::Triangulation;  ///< depth model
+  /// Identify primitives by their words (C, N, W, S, E) confirmed by neighbouring words, with the
+  /// rig's geometry only as a loose prior (epipolar_tolerance, depth range): for calibrating a
+  /// roughly measured rig, whose epipolar curves can be off by tens of pixels.
+  bool identify_by_words = false;
 
   /**
    * @brief Checks every field.

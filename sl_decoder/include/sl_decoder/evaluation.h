@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sl_camera/renderer.h"
+#include "sl_camera/scene.h"
 #include "sl_decoder/decoder.h"
 
 namespace sl_decoder
@@ -65,6 +66,23 @@ struct SceneReport
  */
 SceneReport evaluateScene(const sl_projector::Rig& rig, const std::string& scene_path, const DecoderConfig& config,
                           int frames = 1, const sl_camera::SimSettings& settings = sl_camera::SimSettings());
+
+/**
+ * @brief A white plane (2 x 2 m, albedo @p albedo) facing the robot at @p camera_distance m from
+ * the camera along the robot's x axis, standing on a grey textured floor: the near-range scene.
+ */
+sl_camera::Scene planeScene(const sl_projector::Rig& rig, double camera_distance, double albedo = 0.8);
+
+/**
+ * @brief As evaluateScene(), for a scene built in code; @p name is reported as the scene.
+ * @param seed noise seed of the first frame (frame f uses seed + f).
+ */
+SceneReport evaluateScene(const sl_projector::Rig& rig, const sl_camera::Scene& scene, const std::string& name,
+                          const DecoderConfig& config, int frames = 1,
+                          const sl_camera::SimSettings& settings = sl_camera::SimSettings(), uint64_t seed = 1000);
+
+/// @brief The file name of @p path without its directory and ".yaml".
+std::string sceneStem(const std::string& path);
 
 /// @brief Default locations compiled in: the scenes directory and the default rig file.
 std::string defaultScenesDir();

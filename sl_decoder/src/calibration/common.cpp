@@ -43,6 +43,7 @@ DecoderConfig calibrationDecoderConfig(double epipolar_tolerance)
   DecoderConfig config;
   config.depth_mode = DepthMode::Triangulation;
   config.epipolar_tolerance = epipolar_tolerance;
+  config.identify_by_words = true;
   config.validate();
   return config;
 }

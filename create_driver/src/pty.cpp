@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/inotify.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
@@ -60,8 +61,22 @@ bool Pty::open(std::string* error)
     ::cfsetospeed(&tio, B57600);
     ::tcsetattr(s, TCSANOW, &tio);
   }
+  // Opens and closes of the slave from now on are the clients' (ours came before the watch).
+  const int in = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (in < 0 || ::inotify_add_watch(in, name, IN_OPEN | IN_CLOSE_WRITE | IN_CLOSE_NOWRITE) < 0)
+  {
+    if (error)
+      *error = errnoText("inotify on the pty slave");
+    if (in >= 0)
+      ::close(in);
+    ::close(s);
+    ::close(m);
+    return false;
+  }
   const int flags = ::fcntl(m, F_GETFL);
   ::fcntl(m, F_SETFL, flags | O_NONBLOCK);
+  inotify_ = in;
+  clients_ = 0;
   master_ = m;
   slave_keepalive_ = s;
   slave_path_ = name;
@@ -70,6 +85,10 @@ bool Pty::open(std::string* error)
 
 void Pty::close()
 {
+  if (inotify_ >= 0)
+    ::close(inotify_);
+  inotify_ = -1;
+  clients_ = 0;
   if (slave_keepalive_ >= 0)
     ::close(slave_keepalive_);
   if (master_ >= 0)
@@ -148,10 +167,38 @@ long Pty::read(uint8_t* buf, size_t len)
   return static_cast<long>(n);
 }
 
+int Pty::clients()
+{
+  if (inotify_ < 0)
+    return 0;
+  alignas(inotify_event) char buf[4096];
+  ssize_t n;
+  while ((n = ::read(inotify_, buf, sizeof(buf))) > 0)
+  {
+    for (ssize_t off = 0; off < n;)
+    {
+      const auto* ev = reinterpret_cast<const inotify_event*>(buf + off);
+      if (ev->mask & IN_OPEN)
+        ++clients_;
+      if (ev->mask & (IN_CLOSE_WRITE | IN_CLOSE_NOWRITE))
+      {
+        clients_ = clients_ > 0 ? clients_ - 1 : 0;
+        // The last client left: what it did not read would be stale for the next one.
+        if (clients_ == 0 && slave_keepalive_ >= 0)
+          ::tcflush(slave_keepalive_, TCIFLUSH);
+      }
+      off += static_cast<ssize_t>(sizeof(inotify_event) + ev->len);
+    }
+  }
+  return clients_;
+}
+
 size_t Pty::write(const uint8_t* data, size_t len)
 {
   if (master_ < 0)
     return 0;
+  if (clients() == 0)
+    return 0;  // nobody at the other end of the cable
   size_t done = 0;
   while (done < len)
   {

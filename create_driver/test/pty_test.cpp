@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
@@ -256,4 +257,43 @@ TEST(Pty, ClosingThePtyGivesClientsEof)
   }
   EXPECT_LE(n, 0);
   ::close(fd);
+}
+
+TEST(Pty, OutputIsDroppedWhileNoClientHasThePortOpen)
+{
+  const std::string link = tempLink("fresh");
+  SimThread sim(link);
+  ASSERT_TRUE(sim.ok) << sim.error;
+  const int first = openClient(link);
+  ASSERT_GE(first, 0);
+  // Start, Safe, Stream [7, 19, 20, 35] (13-byte frames), then leave without stopping the stream.
+  writeAll(first, { 128, 131, 148, 4, 7, 19, 20, 35 });
+  ASSERT_GE(scanFrames(readFor(first, 13 * 10, 10.0)).size(), 5u);
+  ::close(first);
+  {
+    // While nobody listens the robot keeps streaming; wait for enough output to fill a buffer.
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    uint64_t steps = 0;
+    while (std::chrono::steady_clock::now() < end && steps < 200)
+    {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ++steps;
+    }
+  }
+  // Hold the simulator still while the next client opens and looks: whatever is readable now was
+  // written before it came. A real cable delivers none of that.
+  int second = -1;
+  int stale = -1;
+  {
+    std::lock_guard<std::mutex> lock(sim.mutex);
+    second = ::open(link.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);  // no flush: like a careless client
+    ASSERT_GE(second, 0);
+    ASSERT_EQ(::ioctl(second, FIONREAD, &stale), 0);
+  }
+  EXPECT_EQ(stale, 0) << "the new client found " << stale << " stale bytes";
+  // The stream still runs and reaches the new client.
+  const auto frames = scanFrames(readFor(second, 13 * 5, 10.0));
+  EXPECT_GE(frames.size(), 3u);
+  EXPECT_EQ(sim.pty.clients(), 1);
+  ::close(second);
 }

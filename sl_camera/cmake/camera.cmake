@@ -6,6 +6,8 @@ find_package(Threads REQUIRED)
 list(APPEND SL_CAMERA_CORE_SOURCES
   src/camera/mono8.cpp
   src/camera/player_source.cpp
+  src/camera/start_gate.cpp
+  src/camera/unreadable_files.cpp
   src/camera/v4l2_source.cpp
   src/camera/capture_thread.cpp
   src/camera/camera_config.cpp
@@ -56,5 +58,17 @@ function(sl_camera_camera_tests)
     target_include_directories(camera_aravis_rostest PRIVATE ${catkin_INCLUDE_DIRS})
     target_link_libraries(camera_aravis_rostest ${catkin_LIBRARIES})
     add_dependencies(camera_aravis_rostest camera_node sl_camera_nodelets)
+    # A GigE Vision camera on 127.0.0.1: arv-fake-gv-camera-0.8 (Debian package aravis-tools).
+    find_program(ARV_FAKE_GV_CAMERA arv-fake-gv-camera-0.8)
+    find_program(ARV_TOOL arv-tool-0.8)
+    if(ARV_FAKE_GV_CAMERA AND ARV_TOOL)
+      add_rostest_gtest(camera_fake_gv_rostest test/camera_fake_gv.test test/camera_fake_gv_rostest.cpp)
+      target_include_directories(camera_fake_gv_rostest PRIVATE ${catkin_INCLUDE_DIRS})
+      target_link_libraries(camera_fake_gv_rostest ${catkin_LIBRARIES})
+      add_dependencies(camera_fake_gv_rostest camera_node sl_camera_nodelets)
+    else()
+      message(WARNING "sl_camera: arv-fake-gv-camera-0.8 or arv-tool-0.8 not found, skipping the camera_fake_gv "
+                      "rostest (install aravis-tools and aravis-tools-cli)")
+    endif()
   endif()
 endfunction()

@@ -69,12 +69,14 @@ TEST(CameraAravis, StreamsMono8FromTheFakeCameraWithSettingsApplied)
 TEST(CameraAravis, OutOfRangeSettingsAreClampedWithAWarning)
 {
   SourceSettings settings;
-  settings.gain = 50.0;  // the fake camera's gain goes to 10 dB
+  settings.gain = 50.0;  // the fake camera's GainRaw goes to 10 (no unit)
   AravisSource source("Fake_1", settings);
   source.open();
   const auto warnings = source.takeWarnings();
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("gain 50 dB outside"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("gain 50 outside 0..10 (GainRaw, the camera's raw units), using 10"), std::string::npos)
+      << warnings[0];
+  EXPECT_EQ(warnings[0].find("dB"), std::string::npos) << "GainRaw has no unit: " << warnings[0];
   source.close();
 }
 

@@ -19,6 +19,7 @@ using sl_camera::CaptureClock;
 using sl_camera::CaptureEvent;
 using sl_camera::CaptureOptions;
 using sl_camera::CaptureState;
+using sl_camera::CaptureStats;
 using sl_camera::CaptureThread;
 using sl_camera::Frame;
 using sl_camera::FrameSource;
@@ -45,8 +46,11 @@ struct FakeDevice
 {
   std::atomic<bool> present{ true };
   std::atomic<bool> stalled{ false };
+  std::atomic<bool> holding{ false };  ///< delivers nothing on purpose (waiting() is true), like a held player
   std::atomic<int> opens{ 0 };
   std::atomic<int> closes{ 0 };
+  std::atomic<bool> close_blocks{ false };  ///< close() waits until this is false again (a dead device)
+  std::atomic<bool> closing{ false };       ///< close() is running
   double rate = 0.0;
   bool warn_on_open = false;
   bool free_run = true;  ///< after the script: frames forever (false: end of stream)
@@ -79,7 +83,7 @@ public:
       throw CameraError(CameraError::Kind::Lost, "fake camera /dev/fake0: not open");
     if (!device_->present)
       throw CameraError(CameraError::Kind::Lost, "fake camera /dev/fake0 disappeared");
-    if (device_->stalled)
+    if (device_->holding || device_->stalled)
     {
       std::this_thread::sleep_for(std::min(timeout, std::chrono::milliseconds(5)));
       return GrabStatus::Timeout;
@@ -120,13 +124,21 @@ public:
   }
   void close() override
   {
+    device_->closing = true;
+    while (device_->close_blocks)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (open_)
       ++device_->closes;
     open_ = false;
+    device_->closing = false;
   }
   bool isOpen() const override
   {
     return open_;
+  }
+  bool waiting() const override
+  {
+    return open_ && device_->holding;
   }
   double nominalRate() const override
   {
@@ -160,6 +172,7 @@ CaptureOptions fastOptions()
   o.initial_backoff = 0.005;
   o.max_backoff = 0.02;
   o.stall_timeout = 5.0;
+  o.first_frame_timeout = 5.0;
   return o;
 }
 
@@ -270,6 +283,8 @@ TEST(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
     device->script.push_back(Step{ Step::Image, seq, true, 0.0 });
   device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });
   device->script.push_back(Step{ Step::Image, 17, true, 0.0 });
+  device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });  // frame 18, incomplete
+  device->script.push_back(Step{ Step::Image, 19, true, 0.0 });  // its gap is that frame: counted once
   device->script.push_back(Step{ Step::Image, 3, true, 0.0 });  // counter reset: not a loss
   device->script.push_back(Step{ Step::Image, 4, true, 0.0 });
   Recorder rec;
@@ -278,15 +293,15 @@ TEST(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.state() == CaptureState::Finished; }));
   const sl_camera::CaptureStats s = capture.stats();
-  EXPECT_EQ(s.frames, 8u);
-  EXPECT_EQ(s.dropped, 2u + 1u);
+  EXPECT_EQ(s.frames, 9u);
+  EXPECT_EQ(s.dropped, 2u + 1u + 1u);
   EXPECT_EQ(s.reconnects, 0u);
   EXPECT_EQ(s.open_failures, 0u);
   EXPECT_NE(s.last_error.find("incomplete frame"), std::string::npos);
-  EXPECT_EQ(rec.eventsOf(CaptureEvent::Type::FrameError).size(), 1u);
+  EXPECT_EQ(rec.eventsOf(CaptureEvent::Type::FrameError).size(), 2u);
   {
     std::lock_guard<std::mutex> lock(rec.mutex);
-    EXPECT_EQ(rec.sequences, (std::vector<std::uint64_t>{ 10, 11, 12, 15, 16, 17, 3, 4 }));
+    EXPECT_EQ(rec.sequences, (std::vector<std::uint64_t>{ 10, 11, 12, 15, 16, 17, 19, 3, 4 }));
   }
   EXPECT_EQ(device->opens.load(), 1) << "the end of a recording is not a failure";
   capture.stop();
@@ -412,4 +427,117 @@ TEST(CameraCaptureThread, RejectsBadConstruction)
     EXPECT_NE(std::string(e.what()).find("grab_timeout"), std::string::npos) << e.what();
   }
   EXPECT_STREQ(sl_camera::captureStateName(CaptureState::Reconnecting), "reconnecting");
+}
+
+TEST(CameraCaptureThread, ADeviceThatOpensButNeverDeliversIsOverdueAndNeverRecovered)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->stalled = true;  // opens fine, streams nothing (a packet socket that receives nothing)
+  CaptureOptions o = fastOptions();
+  o.frame_overdue = 0.01;
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  capture.start();
+  // While open without frames, the stats say so (the diagnostics turn this into an error).
+  ASSERT_TRUE(waitUntil([&] {
+    const auto st = capture.stats();
+    return st.state == CaptureState::Streaming && st.overdue && !st.have_frame;
+  }));
+  capture.stop();
+  EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::FirstFrame).empty());
+  EXPECT_EQ(capture.stats().frames, 0u);
+}
+
+TEST(CameraCaptureThread, RecoveryIsAnnouncedOnlyOnceFramesArriveAndBackoffGrowsUntilThen)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->stalled = true;
+  CaptureOptions o = fastOptions();
+  o.stall_timeout = 0.01;
+  o.first_frame_timeout = 0.01;
+  o.initial_backoff = 0.001;
+  o.max_backoff = 0.004;
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return rec.eventsOf(CaptureEvent::Type::Error).size() >= 4; }));
+  EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::FirstFrame).empty()) << "announced a recovery without a frame";
+  {
+    // Opening worked every time, but no frame came: the waits grow as for a missing device.
+    const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+    EXPECT_DOUBLE_EQ(errors[0].retry_in, 0.001);
+    EXPECT_DOUBLE_EQ(errors[1].retry_in, 0.002);
+    EXPECT_DOUBLE_EQ(errors[2].retry_in, 0.004);
+    EXPECT_NE(errors[0].message.find("no frame for"), std::string::npos) << errors[0].message;
+  }
+  device->stalled = false;
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 3; }));
+  capture.stop();
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  // The first FirstFrame event comes after the last error and before any frame counted after it.
+  size_t first_frame = rec.events.size(), last_error = 0;
+  for (size_t i = 0; i < rec.events.size(); ++i)
+  {
+    if (rec.events[i].type == CaptureEvent::Type::FirstFrame && first_frame == rec.events.size())
+      first_frame = i;
+    if (rec.events[i].type == CaptureEvent::Type::Error)
+      last_error = i;
+  }
+  ASSERT_LT(first_frame, rec.events.size());
+  EXPECT_GT(first_frame, last_error);
+  EXPECT_NE(rec.events[first_frame].message.find("streaming from fake camera /dev/fake0"), std::string::npos);
+}
+
+TEST(CameraCaptureThread, ALossIsReportedBeforeTheSlowCloseOfTheDeadDevice)
+{
+  auto device = std::make_shared<FakeDevice>();
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
+                        rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 2; }));
+  device->close_blocks = true;
+  device->present = false;
+  // The state says Reconnecting while close() is still stuck on the dead device.
+  ASSERT_TRUE(waitUntil([&] { return device->closing.load(); }));
+  const auto st = capture.stats();
+  EXPECT_EQ(st.state, CaptureState::Reconnecting);
+  EXPECT_NE(st.last_error.find("disappeared"), std::string::npos) << st.last_error;
+  device->close_blocks = false;
+  capture.stop();
+}
+
+TEST(CameraCaptureThread, ASourceThatWaitsOnPurposeIsNeitherStalledNorOverdue)
+{
+  auto device = std::make_shared<FakeDevice>();
+  device->holding = true;  // a player held before its start
+  CaptureOptions o = fastOptions();
+  o.stall_timeout = 0.02;
+  o.first_frame_timeout = 0.02;
+  o.frame_overdue = 0.01;
+  Recorder rec;
+  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  capture.start();
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().waiting; }));
+  // Many stall timeouts long (a wait, not a measurement): a stalled source would have been closed
+  // and re-opened by now.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  CaptureStats st = capture.stats();
+  EXPECT_EQ(st.state, CaptureState::Streaming);
+  EXPECT_TRUE(st.waiting);
+  EXPECT_FALSE(st.overdue);
+  EXPECT_EQ(device->opens.load(), 1);
+  EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::Error).empty());
+
+  device->holding = false;
+  ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 3; }));
+  st = capture.stats();
+  EXPECT_FALSE(st.waiting);
+  EXPECT_TRUE(st.have_frame);
+  EXPECT_EQ(rec.eventsOf(CaptureEvent::Type::FirstFrame).size(), 1u);
+  capture.stop();
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  ASSERT_FALSE(rec.sequences.empty());
+  EXPECT_EQ(rec.sequences.front(), 0u);
+  EXPECT_EQ(device->opens.load(), 1);
 }

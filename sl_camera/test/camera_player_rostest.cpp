@@ -1,6 +1,8 @@
 // Checks the camera nodelet (player back-end) in a running system: the missing folder is reported
 // and retried; once the PNGs are there they arrive in order, paired with a valid camera_info in the
-// configured frame; diagnostics; invalid parameters stop the node naming the parameter.
+// configured frame; a player waits for its first subscriber, who gets frame 0; unreadable files are
+// named in the diagnostics; invalid parameters (and a size other than the rig's) stop the node
+// naming the parameter.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -32,6 +35,8 @@ constexpr int kWidth = 64;
 constexpr int kHeight = 48;
 
 std::string g_folder;
+std::string g_early_folder;
+std::string g_rig_file;
 
 /// Grey value of image i (0-based): 40, 80, ..., 200.
 int valueOf(int i)
@@ -39,14 +44,22 @@ int valueOf(int i)
   return 40 * (i + 1);
 }
 
-/// Writes the images into a staging folder and renames it into place, so a camera never sees a
-/// half-written folder. Idempotent.
-void ensureFolder()
+/// Files in the early folder that no image decoder can read, sorted between the frames.
+const std::vector<std::string> kUnreadable = { "frame_001b.png", "frame_003b.png" };
+
+/// Writes the images (and, if @p with_unreadable, the files of kUnreadable) into a staging folder
+/// and renames it to @p folder, so a camera never sees a half-written folder. Idempotent.
+void ensureFolder(const std::string& folder = g_folder, bool with_unreadable = false)
 {
-  if (fs::exists(g_folder))
+  if (fs::exists(folder))
     return;
-  const std::string staging = g_folder + ".staging";
+  const std::string staging = folder + ".staging";
   fs::create_directories(staging);
+  if (with_unreadable)
+  {
+    std::ofstream(fs::path(staging) / kUnreadable[0], std::ios::binary) << "\x89PNG not really a PNG";
+    std::ofstream(fs::path(staging) / kUnreadable[1], std::ios::binary);  // empty
+  }
   for (int i = 0; i < kImages; ++i)
   {
     cv::Mat image(kHeight, kWidth, CV_8UC1, cv::Scalar(valueOf(i)));
@@ -55,7 +68,7 @@ void ensureFolder()
     std::snprintf(name, sizeof(name), "frame_%03d.png", i);
     ASSERT_TRUE(cv::imwrite((fs::path(staging) / name).string(), image));
   }
-  fs::rename(staging, g_folder);
+  fs::rename(staging, folder);
 }
 
 /// Waits (spinning in the background) until @p done holds or the timeout passes.
@@ -79,12 +92,13 @@ public:
   {
     sub_ = nh_.subscribe("/diagnostics", 50, &DiagnosticsWatch::callback, this);
   }
-  /// The latest status whose name ends with @p suffix, if any.
-  bool find(const std::string& suffix, diagnostic_msgs::DiagnosticStatus& out)
+  /// The latest status named @p name ("ns/node: task"), if any. (Exact: "calibrated/camera" is a
+  /// suffix of "uncalibrated/camera".)
+  bool find(const std::string& name, diagnostic_msgs::DiagnosticStatus& out)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& s : latest_)
-      if (s.name.size() >= suffix.size() && s.name.compare(s.name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      if (s.name == name)
       {
         out = s;
         return true;
@@ -209,12 +223,27 @@ TEST(CameraPlayerNode, MissingFolderAtStartIsReportedThenPlayedOnceItAppears)
   EXPECT_NE(status.message.find(g_folder), std::string::npos) << status.message;
   EXPECT_NE(status.message.find("does not exist"), std::string::npos) << status.message;
 
-  ensureFolder();
+  // Subscribed before the folder (and so playback) is there: the first image is frame 0.
   CameraWatch camera("calibrated");
+  ensureFolder();
   ASSERT_TRUE(waitUntil([&] { return camera.size() >= 3; }, 60.0)) << "no images after the folder appeared";
+  {
+    std::vector<sensor_msgs::ImageConstPtr> images;
+    std::vector<sensor_msgs::CameraInfoConstPtr> infos;
+    camera.take(images, infos);
+    ASSERT_GE(images.size(), 3u);
+    for (size_t k = 0; k < 3; ++k)
+      EXPECT_EQ(imageIndex(*images[k]), static_cast<int>(k)) << "image " << k << " of a subscriber from before the start";
+  }
+  // (OK "waiting for a subscriber to start playback" may come first, if the folder was listed
+  // before the subscription was connected.)
   ASSERT_TRUE(waitUntil(
-      [&] { return diagnostics.find("calibrated/camera: capture", status) && status.level == status.OK; }, 30.0));
-  EXPECT_EQ(status.message, "streaming");
+      [&] {
+        return diagnostics.find("calibrated/camera: capture", status) && status.level == status.OK &&
+               status.message == "streaming";
+      },
+      30.0))
+      << "last status: " << status.message;
   EXPECT_EQ(DiagnosticsWatch::value(status, "state"), "streaming");
   EXPECT_EQ(DiagnosticsWatch::value(status, "reconnects"), "0");
   EXPECT_GE(DiagnosticsWatch::count(status, "frames"), 1);
@@ -289,6 +318,52 @@ TEST(CameraPlayerNode, UncalibratedCameraInfoCarriesTheImageSize)
   }
 }
 
+TEST(CameraPlayerNode, PlayerWaitsForItsFirstSubscriberWhoGetsFrameZeroAndUnreadableFilesAreNamed)
+{
+  ensureFolder(g_early_folder, true);
+  DiagnosticsWatch diagnostics;
+  diagnostic_msgs::DiagnosticStatus status;
+  // The folder is listed (open), but nothing is played before someone subscribes.
+  ASSERT_TRUE(waitUntil(
+      [&] {
+        return diagnostics.find("early/camera: capture", status) &&
+               status.message == "waiting for a subscriber to start playback";
+      },
+      60.0))
+      << "the player did not wait for a subscriber; last status: " << status.message;
+  EXPECT_EQ(status.level, status.OK);
+  EXPECT_EQ(DiagnosticsWatch::value(status, "frames"), "0");
+  EXPECT_EQ(DiagnosticsWatch::value(status, "unreadable file count"), "0");
+  EXPECT_EQ(DiagnosticsWatch::value(status, "unreadable files"), "none");
+
+  CameraWatch camera("early");
+  ASSERT_TRUE(waitUntil([&] { return camera.size() >= static_cast<size_t>(kImages); }, 60.0))
+      << "got " << camera.size() << " images";
+  ASSERT_TRUE(waitUntil(
+      [&] {
+        return diagnostics.find("early/camera: capture", status) &&
+               DiagnosticsWatch::value(status, "state") == "finished";
+      },
+      60.0))
+      << "no end of playback; last status: " << status.message;
+  // Every frame exactly once, from frame 0, in order; the unreadable files skipped.
+  std::vector<sensor_msgs::ImageConstPtr> images;
+  std::vector<sensor_msgs::CameraInfoConstPtr> infos;
+  camera.take(images, infos);
+  std::vector<int> indices;
+  for (const auto& image : images)
+    indices.push_back(imageIndex(*image));
+  EXPECT_EQ(indices, (std::vector<int>{ 0, 1, 2, 3, 4 }));
+
+  // Both unreadable files are named (with their folder), counted, and make the status a warning.
+  EXPECT_EQ(status.level, status.WARN) << status.message;
+  EXPECT_NE(status.message.find("2 unreadable files skipped"), std::string::npos) << status.message;
+  EXPECT_EQ(DiagnosticsWatch::count(status, "unreadable file count"), 2);
+  const std::string names = DiagnosticsWatch::value(status, "unreadable files");
+  for (const std::string& f : kUnreadable)
+    EXPECT_NE(names.find((fs::path(g_early_folder) / f).string()), std::string::npos) << names;
+}
+
 TEST(CameraPlayerNode, FolderThatNeverAppearsIsAnErrorNotACrash)
 {
   DiagnosticsWatch diagnostics;
@@ -328,14 +403,30 @@ TEST(CameraNode, InvalidParametersFailNamingThem)
   }
 }
 
+TEST(CameraNode, SizeOtherThanTheRigsFailsAtStartNamingBothSizesAndTheFile)
+{
+  // Checked before any device is opened: /dev/null is never read.
+  std::string out;
+  const int status = run("rosrun sl_camera camera_node __name:=bad_size_camera _backend:=v4l2 _device:=/dev/null "
+                         "_width:=640 _height:=400 _rig_file:=" +
+                             g_rig_file,
+                         out);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("640 x 400"), std::string::npos) << out;
+  EXPECT_NE(out.find("752 x 480"), std::string::npos) << out;
+  EXPECT_NE(out.find(g_rig_file), std::string::npos) << out;
+  EXPECT_NE(out.find("~width x height"), std::string::npos) << out;
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "camera_player_rostest");
   ros::NodeHandle pnh("~");
-  if (!pnh.getParam("folder", g_folder) || g_folder.empty())
+  if (!pnh.getParam("folder", g_folder) || g_folder.empty() || !pnh.getParam("early_folder", g_early_folder) ||
+      g_early_folder.empty() || !pnh.getParam("rig_file", g_rig_file) || g_rig_file.empty())
   {
-    ROS_FATAL("~folder is not set");
+    ROS_FATAL("~folder, ~early_folder and ~rig_file must be set");
     return 1;
   }
   ros::AsyncSpinner spinner(2);
@@ -344,5 +435,7 @@ int main(int argc, char** argv)
   std::error_code ec;
   fs::remove_all(g_folder, ec);
   fs::remove_all(g_folder + ".staging", ec);
+  fs::remove_all(g_early_folder, ec);
+  fs::remove_all(g_early_folder + ".staging", ec);
   return result;
 }

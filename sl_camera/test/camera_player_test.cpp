@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +17,8 @@
 
 #include "sl_camera/camera/mono8.h"
 #include "sl_camera/camera/player_source.h"
+#include "sl_camera/camera/start_gate.h"
+#include "sl_camera/camera/unreadable_files.h"
 
 namespace fs = std::filesystem;
 using sl_camera::CameraError;
@@ -294,6 +297,135 @@ TEST(CameraPlayer, CorruptFileIsAFrameErrorNamingItAndPlaybackContinues)
   ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
   EXPECT_EQ(valueOf(frame), 33);
   EXPECT_EQ(grabNext(player, frame), GrabStatus::EndOfStream);
+}
+
+TEST(CameraPlayer, UnreadableFilesAreRecordedOnceEachAcrossLoops)
+{
+  TempDir dir;
+  writeGrey(dir.file("a.png"), 11);
+  std::ofstream(dir.file("b.png"), std::ios::binary) << "\x89PNG this is not really a PNG";
+  writeGrey(dir.file("c.png"), 33);
+  std::ofstream(dir.file("d.jpg"), std::ios::binary);  // empty
+  PlayerSource player(dir.path(), 1000.0, true);
+  const std::shared_ptr<const sl_camera::UnreadableFiles> unreadable = player.unreadableFiles();
+  ASSERT_TRUE(unreadable);
+  EXPECT_EQ(unreadable->count(), 0u);
+  player.open();
+  Frame frame;
+  std::vector<int> values;
+  int errors = 0;
+  for (int i = 0; i < 12; ++i)  // three loops of four files
+  {
+    try
+    {
+      ASSERT_EQ(grabNext(player, frame), GrabStatus::Frame);
+      values.push_back(valueOf(frame));
+    }
+    catch (const CameraError& e)
+    {
+      EXPECT_EQ(e.kind(), CameraError::Kind::Frame) << e.what();
+      ++errors;
+    }
+  }
+  EXPECT_EQ(values, (std::vector<int>{ 11, 33, 11, 33, 11, 33 }));
+  EXPECT_EQ(errors, 6);
+  // Each bad file once, in the order met, whatever the number of loops.
+  EXPECT_EQ(unreadable->count(), 2u);
+  EXPECT_EQ(unreadable->first(10), (std::vector<std::string>{ dir.file("b.png"), dir.file("d.jpg") }));
+  // The record outlives a re-open (the capture thread re-opens after a loss).
+  player.open();
+  EXPECT_EQ(unreadable->count(), 2u);
+}
+
+TEST(CameraUnreadableFiles, CountsDistinctNamesAndSummarises)
+{
+  sl_camera::UnreadableFiles files;
+  EXPECT_EQ(files.summary(3), "none");
+  EXPECT_TRUE(files.from(0).empty());
+  EXPECT_TRUE(files.add("/d/1.png"));
+  EXPECT_FALSE(files.add("/d/1.png"));
+  EXPECT_TRUE(files.add("/d/2.png"));
+  EXPECT_EQ(files.count(), 2u);
+  EXPECT_EQ(files.summary(3), "/d/1.png, /d/2.png");
+  for (int i = 3; i <= 6; ++i)
+    files.add("/d/" + std::to_string(i) + ".png");
+  EXPECT_EQ(files.count(), 6u);
+  EXPECT_EQ(files.summary(3), "/d/1.png, /d/2.png, /d/3.png and 3 more");
+  EXPECT_EQ(files.summary(0), "6 more");
+  EXPECT_EQ(files.first(2), (std::vector<std::string>{ "/d/1.png", "/d/2.png" }));
+  // A reader keeping its own count sees every name exactly once.
+  EXPECT_EQ(files.from(4), (std::vector<std::string>{ "/d/5.png", "/d/6.png" }));
+  EXPECT_TRUE(files.from(6).empty());
+  EXPECT_TRUE(files.from(100).empty());
+  EXPECT_EQ(sl_camera::UnreadableFiles::join({ "a", "b" }), "a, b");
+}
+
+TEST(CameraPlayer, StartGateHoldsFrameZeroUntilOpened)
+{
+  TempDir dir;
+  for (int i = 0; i < 3; ++i)
+    writeGrey(dir.file("f" + std::to_string(i) + ".png"), 10 * (i + 1));
+  PlayerSource player(dir.path(), 1000.0, false);
+  auto gate = std::make_shared<sl_camera::StartGate>();
+  player.setStartGate(gate);
+  EXPECT_FALSE(player.waiting()) << "not open yet: nothing to wait with";
+  player.open();
+  Frame frame;
+  for (int i = 0; i < 5; ++i)
+  {
+    EXPECT_EQ(player.grab(frame, std::chrono::milliseconds(1)), GrabStatus::Timeout);
+    EXPECT_TRUE(player.waiting());
+  }
+  gate->open();
+  EXPECT_FALSE(player.waiting());
+  std::vector<int> values;
+  std::vector<uint64_t> sequences;
+  while (grabNext(player, frame) == GrabStatus::Frame)
+  {
+    values.push_back(valueOf(frame));
+    sequences.push_back(frame.sequence);
+    ASSERT_LE(values.size(), 3u);
+  }
+  // Nothing was skipped while held: frame 0 first.
+  EXPECT_EQ(values, (std::vector<int>{ 10, 20, 30 }));
+  EXPECT_EQ(sequences, (std::vector<uint64_t>{ 0, 1, 2 }));
+}
+
+TEST(CameraPlayer, StartGateOpenedFromAnotherThreadWakesAWaitingGrab)
+{
+  TempDir dir;
+  writeGrey(dir.file("f.png"), 77);
+  PlayerSource player(dir.path(), 10.0, false);
+  auto gate = std::make_shared<sl_camera::StartGate>();
+  player.setStartGate(gate);
+  player.open();
+  std::thread opener([gate] { gate->open(); });
+  Frame frame;
+  // The grab may start before or after the other thread opens the gate: either way it gets frame 0.
+  EXPECT_EQ(grabNext(player, frame), GrabStatus::Frame);
+  opener.join();
+  EXPECT_EQ(valueOf(frame), 77);
+  EXPECT_EQ(frame.sequence, 0u);
+}
+
+TEST(CameraStartGate, PlaybackStartsWithACameraSubscriberOrAnImageOnlyOneAfterTheGrace)
+{
+  using sl_camera::shouldStartPlayback;
+  EXPECT_FALSE(shouldStartPlayback(0, 0, 0.0, 0.5));
+  EXPECT_FALSE(shouldStartPlayback(0, 3, 0.0, 0.5)) << "camera_info alone does not start";
+  EXPECT_TRUE(shouldStartPlayback(1, 1, 0.0, 0.5)) << "image and camera_info: at once";
+  EXPECT_FALSE(shouldStartPlayback(1, 0, 0.1, 0.5)) << "image alone: camera_info may still be connecting";
+  EXPECT_TRUE(shouldStartPlayback(1, 0, 0.5, 0.5));
+  EXPECT_TRUE(shouldStartPlayback(2, 0, 7.0, 0.5));
+
+  sl_camera::StartGate gate;
+  EXPECT_FALSE(gate.isOpen());
+  EXPECT_FALSE(gate.waitFor(std::chrono::milliseconds(1)));
+  gate.open();
+  gate.open();  // idempotent
+  EXPECT_TRUE(gate.isOpen());
+  EXPECT_TRUE(gate.waitFor(std::chrono::milliseconds(0)));
+  EXPECT_TRUE(sl_camera::StartGate(true).isOpen());
 }
 
 TEST(CameraPlayer, ImageThatDisappearsMeansTheRecordingIsLost)

@@ -11,9 +11,11 @@ namespace create_driver
 /// @brief Owns a pty master (posix_openpt/grantpt/unlockpt) used by the simulator.
 ///
 /// The slave side is put in raw mode and kept open by this object as well, so that the master
-/// does not see a hang-up while no client is connected (bytes written then are held by the
-/// kernel up to its buffer size, later ones are dropped: like a cable with nobody listening).
-/// Clients should flush their input when they open the slave. All I/O is non-blocking.
+/// does not see a hang-up while no client is connected. Like a serial cable with nobody at the
+/// other end, output is dropped while no client holds the slave open: opens and closes of the
+/// slave are watched with inotify, and when the last client closes, what it left unread is
+/// flushed. A client that (re)opens the port therefore reads fresh data first. All I/O is
+/// non-blocking.
 class Pty
 {
 public:
@@ -44,12 +46,17 @@ public:
   bool waitReadable(int timeout_ms) const;
   /// @brief Reads available bytes. @return bytes read, 0 if none, -1 on error.
   long read(uint8_t* buf, size_t len);
-  /// @brief Writes what the kernel accepts now. @return bytes written (the rest is dropped).
+  /// @brief Writes what the kernel accepts now, nothing while no client has the slave open.
+  /// @return bytes written (the rest is dropped)
   size_t write(const uint8_t* data, size_t len);
+  /// @brief Number of clients that have the slave open now (opens minus closes seen by inotify).
+  int clients();
 
 private:
   int master_ = -1;
   int slave_keepalive_ = -1;
+  int inotify_ = -1;   ///< watches opens and closes of the slave
+  int clients_ = 0;    ///< open slave descriptors other than slave_keepalive_
   std::string slave_path_;
   std::string link_path_;
   std::string link_target_;

@@ -2,8 +2,20 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <sstream>
+#include <thread>
+
+#include <ifaddrs.h>
+#include <net/if.h>
+#include <netinet/in.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstring>
 
 #include <arv.h>
 #include <opencv2/imgproc.hpp>
@@ -57,6 +69,66 @@ void onControlLost(ArvDevice* /*device*/, gpointer flag)
 {
   static_cast<std::atomic<bool>*>(flag)->store(true);
 }
+
+/** True when @p address (a GInetSocketAddress) is a loopback address. */
+bool isLoopback(GSocketAddress* address)
+{
+  if (!address || !G_IS_INET_SOCKET_ADDRESS(address))
+    return false;
+  GInetAddress* inet = g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(address));
+  return inet && g_inet_address_get_is_loopback(inet);
+}
+
+/**
+ * For a camera on this host (its address is a loopback address or one of this host's, so its
+ * packets travel through the loopback interface whichever interface Aravis found it on): the MTU
+ * of that loopback interface. 0 for a camera elsewhere, or when unknown.
+ */
+int localCameraMtu(GSocketAddress* device_address)
+{
+  if (!device_address || !G_IS_INET_SOCKET_ADDRESS(device_address))
+    return 0;
+  GInetAddress* inet = g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(device_address));
+  if (!inet || g_inet_address_get_family(inet) != G_SOCKET_FAMILY_IPV4)
+    return 0;
+  const guint8* bytes = g_inet_address_to_bytes(inet);
+  bool local = g_inet_address_get_is_loopback(inet);
+  std::string loopback_name = "lo";
+  ifaddrs* list = nullptr;
+  if (::getifaddrs(&list) != 0)
+    return 0;
+  for (ifaddrs* i = list; i; i = i->ifa_next)
+  {
+    if (!i->ifa_addr || i->ifa_addr->sa_family != AF_INET)
+      continue;
+    if ((i->ifa_flags & IFF_LOOPBACK) != 0)
+      loopback_name = i->ifa_name;
+    const auto* in = reinterpret_cast<const sockaddr_in*>(i->ifa_addr);
+    local = local || std::memcmp(&in->sin_addr, bytes, 4) == 0;
+  }
+  ::freeifaddrs(list);
+  if (!local)
+    return 0;
+  int mtu = 0;
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd >= 0)
+  {
+    ifreq request{};
+    std::strncpy(request.ifr_name, loopback_name.c_str(), IFNAMSIZ - 1);
+    if (::ioctl(fd, SIOCGIFMTU, &request) == 0)
+      mtu = request.ifr_mtu;
+    ::close(fd);
+  }
+  return mtu;
+}
+
+/** Completion flag of one background teardown. */
+struct TeardownState
+{
+  std::mutex mutex;
+  std::condition_variable done_cv;
+  bool done = false;
+};
 }  // namespace
 
 struct AravisSource::Impl
@@ -64,13 +136,14 @@ struct AravisSource::Impl
   ArvCamera* camera = nullptr;
   ArvStream* stream = nullptr;
   gulong lost_handler = 0;
-  std::atomic<bool> control_lost{ false };
+  // Shared with the teardown: Aravis' heartbeat thread may set it until the device is finalised.
+  std::shared_ptr<std::atomic<bool>> control_lost = std::make_shared<std::atomic<bool>>(false);
   double nominal_rate = 0.0;
   cv::Mat converted;
 };
 
-AravisSource::AravisSource(const std::string& camera_id, const SourceSettings& settings)
-  : camera_id_(camera_id), settings_(settings), impl_(new Impl)
+AravisSource::AravisSource(const std::string& camera_id, const SourceSettings& settings, const AravisOptions& options)
+  : camera_id_(camera_id), settings_(settings), options_(options), impl_(new Impl)
 {
 }
 
@@ -118,10 +191,11 @@ void AravisSource::open()
     throw CameraError(CameraError::Kind::Open, "cannot open " + description() + ": " + message);
   }
   impl_->camera = camera;
-  impl_->control_lost = false;
+  impl_->control_lost = std::make_shared<std::atomic<bool>>(false);
   ArvDevice* device = arv_camera_get_device(camera);
   if (device)
-    impl_->lost_handler = g_signal_connect(device, "control-lost", G_CALLBACK(onControlLost), &impl_->control_lost);
+    impl_->lost_handler =
+        g_signal_connect(device, "control-lost", G_CALLBACK(onControlLost), impl_->control_lost.get());
 
   const SourceSettings& s = settings_;
   auto note = [this](const std::string& what, GError*& e) {
@@ -156,15 +230,23 @@ void AravisSource::open()
     takeError(error);
     const gint want_w = s.width > 0 ? s.width : w;
     const gint want_h = s.height > 0 ? s.height : h;
-    gint want_x = 0, want_y = 0;
-    if (arv_camera_is_region_offset_available(camera, &error) && sensor_w >= want_w && sensor_h >= want_h)
+    gint want_x = std::max(0, s.offset_x), want_y = std::max(0, s.offset_y);
+    const bool offsets = arv_camera_is_region_offset_available(camera, &error);
+    takeError(error);
+    if (offsets)
     {
       const gint inc_x = std::max(1, static_cast<int>(arv_camera_get_x_offset_increment(camera, nullptr)));
       const gint inc_y = std::max(1, static_cast<int>(arv_camera_get_y_offset_increment(camera, nullptr)));
-      want_x = (sensor_w - want_w) / 2 / inc_x * inc_x;
-      want_y = (sensor_h - want_h) / 2 / inc_y * inc_y;
+      if (s.offset_x < 0)
+        want_x = sensor_w >= want_w ? (sensor_w - want_w) / 2 / inc_x * inc_x : 0;
+      if (s.offset_y < 0)
+        want_y = sensor_h >= want_h ? (sensor_h - want_h) / 2 / inc_y * inc_y : 0;
     }
-    takeError(error);
+    else if (s.offset_x > 0 || s.offset_y > 0)
+    {
+      warn(description() + ": the camera has no region offsets; offset_x and offset_y ignored");
+      want_x = want_y = 0;
+    }
     arv_camera_set_region(camera, want_x, want_y, want_w, want_h, &error);
     note("cannot set the region", error);
     arv_camera_get_region(camera, &x, &y, &w, &h, &error);
@@ -174,6 +256,13 @@ void AravisSource::open()
       std::ostringstream msg;
       msg << description() << ": asked for " << want_w << " x " << want_h << " px, the camera delivers " << w << " x "
           << h << " px";
+      warn(msg.str());
+    }
+    if (offsets && (x != want_x || y != want_y))
+    {
+      std::ostringstream msg;
+      msg << description() << ": asked for the region at offset " << want_x << ", " << want_y
+          << " px, the camera uses " << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
       warn(msg.str());
     }
   }
@@ -242,7 +331,10 @@ void AravisSource::open()
     note("cannot switch exposure auto on", error);
   }
 
-  // Gain (dB).
+  // Gain: GenICam's Gain is in dB; cameras with GainRaw only have no unit for it.
+  const bool gain_db = device && arv_device_is_feature_available(device, "Gain", nullptr);
+  const std::string gain_unit = gain_db ? " dB" : "";
+  const char* const gain_note = gain_db ? "" : " (GainRaw, the camera's raw units)";
   const bool gain_auto = arv_camera_is_gain_auto_available(camera, &error);
   takeError(error);
   if (s.gain >= 0.0)
@@ -262,7 +354,8 @@ void AravisSource::open()
       {
         gain = std::min(std::max(gain, lo), hi);
         std::ostringstream msg;
-        msg << description() << ": gain " << s.gain << " dB outside " << lo << ".." << hi << " dB, using " << gain;
+        msg << description() << ": gain " << s.gain << gain_unit << " outside " << lo << ".." << hi << gain_unit
+            << gain_note << ", using " << gain << gain_unit;
         warn(msg.str());
       }
       arv_camera_set_gain(camera, gain, &error);
@@ -280,10 +373,55 @@ void AravisSource::open()
     note("cannot switch gain auto on", error);
   }
 
-  if (arv_camera_is_gv_device(camera))
+  // GigE Vision transport.
+  const bool gv = arv_camera_is_gv_device(camera);
+  if (gv)
   {
-    arv_camera_gv_auto_packet_size(camera, &error);
-    takeError(error);
+    ArvGvDevice* gv_device = ARV_GV_DEVICE(device);
+    // A packet socket (used when the process has CAP_NET_RAW) sees no packets on the loopback interface.
+    const int local_mtu = localCameraMtu(arv_gv_device_get_device_address(gv_device));
+    const bool loopback = local_mtu > 0 || isLoopback(arv_gv_device_get_interface_address(gv_device)) ||
+                          isLoopback(arv_gv_device_get_device_address(gv_device));
+    const bool packet_socket = options_.packet_socket == PacketSocketMode::Auto && !loopback;
+    arv_camera_gv_set_stream_options(camera, packet_socket ? ARV_GV_STREAM_OPTION_NONE :
+                                                             ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
+    if (options_.packet_size > 0)
+    {
+      arv_camera_gv_set_packet_size(camera, options_.packet_size, &error);
+      note("cannot set the packet size to " + std::to_string(options_.packet_size) + " bytes", error);
+      const guint actual = arv_camera_gv_get_packet_size(camera, &error);
+      takeError(error);
+      if (actual != 0 && static_cast<int>(actual) != options_.packet_size)
+        warn(description() + ": packet_size " + std::to_string(options_.packet_size) + " bytes, the camera uses " +
+             std::to_string(actual));
+    }
+    else if (!loopback)
+    {
+      // Aravis fires test packets of decreasing size and keeps the largest that arrives unfragmented.
+      arv_camera_gv_auto_packet_size(camera, &error);
+      note("packet size negotiation failed (set packet_size)", error);
+    }
+    else
+    {
+      // Loopback: nothing between host and camera fragments or drops large packets, and a camera
+      // there (a simulator) may not answer test packets; take the largest packet the interface's
+      // MTU and the camera allow (GevSCPSPacketSize counts the IP and UDP headers). Fewer packets
+      // per frame also mean fewer incomplete frames when packets are lost.
+      const int mtu = local_mtu;
+      gint64 lo = 0, hi = 0;
+      arv_device_get_integer_feature_bounds(device, "GevSCPSPacketSize", &lo, &hi, &error);
+      takeError(error);
+      const gint64 current = arv_camera_gv_get_packet_size(camera, &error);
+      takeError(error);
+      gint64 size = std::min<gint64>(mtu, kMaxPacketSize);
+      if (hi > 0)
+        size = std::min(size, hi);
+      if (mtu > 0 && size > current && size >= std::max<gint64>(lo, kMinPacketSize))
+      {
+        arv_camera_gv_set_packet_size(camera, static_cast<gint>(size), &error);
+        note("cannot set the packet size to the interface MTU (" + std::to_string(size) + " bytes)", error);
+      }
+    }
   }
 
   // Stream: one set of buffers for the whole run, continuous acquisition.
@@ -295,6 +433,16 @@ void AravisSource::open()
     const std::string message = takeError(error);
     close();
     throw CameraError(CameraError::Kind::Open, "cannot create a stream for " + description() + ": " + message);
+  }
+  if (gv && ARV_IS_GV_STREAM(impl_->stream))
+  {
+    // Automatic: one payload (Aravis sets it per buffer); the kernel caps either at net.core.rmem_max.
+    if (options_.socket_buffer > 0)
+      g_object_set(impl_->stream, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size",
+                   options_.socket_buffer, nullptr);
+    else
+      g_object_set(impl_->stream, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, "socket-buffer-size", 0, nullptr);
+    g_object_set(impl_->stream, "packet-resend", ARV_GV_STREAM_PACKET_RESEND_ALWAYS, nullptr);
   }
   const guint payload = arv_camera_get_payload(camera, &error);
   const std::string payload_error = takeError(error);
@@ -318,14 +466,14 @@ GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
 {
   if (!impl_->camera || !impl_->stream)
     throw CameraError(CameraError::Kind::Lost, description() + ": not open");
-  if (impl_->control_lost)
+  if (*impl_->control_lost)
     throw CameraError(CameraError::Kind::Lost, description() + ": connection lost");
 
   const guint64 timeout_us = static_cast<guint64>(std::max<std::int64_t>(0, timeout.count())) * 1000u;
   ArvBuffer* buffer = arv_stream_timeout_pop_buffer(impl_->stream, timeout_us);
   if (!buffer)
   {
-    if (impl_->control_lost)
+    if (*impl_->control_lost)
       throw CameraError(CameraError::Kind::Lost, description() + ": connection lost");
     return GrabStatus::Timeout;
   }
@@ -422,30 +570,52 @@ GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
 void AravisSource::close()
 {
   Impl& d = *impl_;
-  if (d.camera)
-  {
-    GError* error = nullptr;
-    if (d.stream)
-    {
-      arv_camera_stop_acquisition(d.camera, &error);
-      takeError(error);  // a lost camera cannot be stopped; nothing else to do
-    }
-  }
-  if (d.stream)
-  {
-    g_object_unref(d.stream);  // stops the stream thread, frees the buffers
-    d.stream = nullptr;
-  }
-  if (d.camera)
-  {
-    ArvDevice* device = arv_camera_get_device(d.camera);
-    if (device && d.lost_handler)
-      g_signal_handler_disconnect(device, d.lost_handler);
-    d.lost_handler = 0;
-    g_object_unref(d.camera);
-    d.camera = nullptr;
-  }
   d.nominal_rate = 0.0;
+  if (!d.camera && !d.stream)
+    return;
+  ArvCamera* camera = d.camera;
+  ArvStream* stream = d.stream;
+  const gulong handler = d.lost_handler;
+  std::shared_ptr<std::atomic<bool>> lost = d.control_lost;
+  d.camera = nullptr;
+  d.stream = nullptr;
+  d.lost_handler = 0;
+  d.control_lost = std::make_shared<std::atomic<bool>>(false);
+
+  // Every step below may wait seconds on a camera that does not answer (Aravis retries each
+  // command, and joins its heartbeat thread): do them on a helper thread and wait only briefly.
+  const bool dead = lost->load();
+  auto state = std::make_shared<TeardownState>();
+  std::thread worker([camera, stream, handler, lost, dead, state] {
+    GError* error = nullptr;
+    if (camera && stream && !dead)
+    {
+      arv_camera_stop_acquisition(camera, &error);
+      takeError(error);  // a camera that went away cannot be stopped; nothing else to do
+    }
+    if (stream)
+      g_object_unref(stream);  // stops the stream thread, frees the buffers
+    if (camera)
+    {
+      ArvDevice* device = arv_camera_get_device(camera);
+      if (device && handler)
+        g_signal_handler_disconnect(device, handler);
+      g_object_unref(camera);  // leaves control, joins the heartbeat thread (the last user of *lost)
+    }
+    std::lock_guard<std::mutex> lock(state->mutex);
+    state->done = true;
+    state->done_cv.notify_all();
+  });
+  bool done = false;
+  {
+    std::unique_lock<std::mutex> lock(state->mutex);
+    const auto wait = std::chrono::duration<double>(dead ? 0.0 : kCloseWait);
+    done = state->done_cv.wait_for(lock, wait, [&state] { return state->done; });
+  }
+  if (done)
+    worker.join();
+  else
+    worker.detach();  // it owns everything it touches and finishes on its own
 }
 
 }  // namespace sl_camera

@@ -37,6 +37,11 @@ void CaptureOptions::validate() const
   positive(initial_backoff, "initial_backoff");
   positive(max_backoff, "max_backoff");
   positive(stall_timeout, "stall_timeout");
+  positive(first_frame_timeout, "first_frame_timeout");
+  positive(frame_overdue, "frame_overdue");
+  if (first_frame_timeout < stall_timeout)
+    throw std::invalid_argument("first_frame_timeout must be >= stall_timeout (" + std::to_string(stall_timeout) +
+                                " s), got " + std::to_string(first_frame_timeout));
   if (!(gap_tolerance >= 1.0) || !std::isfinite(gap_tolerance))
     throw std::invalid_argument("gap_tolerance must be a finite number >= 1, got " + std::to_string(gap_tolerance));
 }
@@ -92,7 +97,16 @@ CaptureState CaptureThread::state() const
 CaptureStats CaptureThread::stats() const
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  return stats_;
+  CaptureStats s = stats_;
+  if (s.state == CaptureState::Streaming)
+  {
+    s.have_frame = have_frame_;
+    const auto since = std::chrono::steady_clock::now() - (have_frame_ ? last_frame_at_ : opened_at_);
+    s.since_frame = std::max(0.0, std::chrono::duration<double>(since).count());
+    s.waiting = waiting_;
+    s.overdue = !waiting_ && s.since_frame > options_.frame_overdue;
+  }
+  return s;
 }
 
 void CaptureThread::emit(const CaptureEvent& event)
@@ -168,6 +182,9 @@ void CaptureThread::countGap(const Frame& frame)
         lost = static_cast<std::uint64_t>(std::llround(periods)) - 1;
     }
   }
+  // Unusable frames were counted already; a sequence gap includes them.
+  lost = lost > unusable_since_frame_ ? lost - unusable_since_frame_ : 0;
+  unusable_since_frame_ = 0;
   have_previous_ = true;
   previous_sequence_ = frame.sequence;
   previous_stamp_ = frame.stamp;
@@ -219,21 +236,25 @@ void CaptureThread::run()
     for (const std::string& w : source_->takeWarnings())
       emit(CaptureEvent{ CaptureEvent::Type::Warning, CaptureState::Opening, w, 0.0 });
     const double rate = source_->nominalRate();
+    Clock::time_point opened = Clock::now();
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stats_.nominal_rate = rate;
-      if (streamed)
-        ++stats_.reconnects;
+      opened_at_ = opened;
+      have_frame_ = false;
+      waiting_ = false;
     }
     std::ostringstream msg;
-    msg << "streaming from " << description_;
+    msg << "opened " << description_;
     if (rate > 0.0)
       msg << " at " << rate << " Hz";
     setState(CaptureState::Streaming, msg.str());
-    backoff = options_.initial_backoff;
     have_previous_ = false;
+    unusable_since_frame_ = 0;
 
-    Clock::time_point last_frame = Clock::now();
+    Clock::time_point last_frame = opened;
+    bool have_frame = false;
+    bool waiting = false;
     std::string lost_message;
     bool finished = false;
     while (!stopping())
@@ -255,6 +276,10 @@ void CaptureThread::run()
           ++stats_.dropped;
           stats_.last_error = e.what();
         }
+        ++unusable_since_frame_;
+        // An unusable frame still shows that the device is there: not a stall (the diagnostics
+        // still see no good frame).
+        last_frame = Clock::now();
         emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming, e.what(), 0.0 });
       }
       catch (const std::exception& e)
@@ -264,10 +289,44 @@ void CaptureThread::run()
       }
 
       const Clock::time_point now = Clock::now();
+      const bool now_waiting = status == GrabStatus::Timeout && source_->waiting();
+      if (now_waiting || waiting)
+      {
+        // Held on purpose (a player before its start): no stall, and the wait for the first frame
+        // counts from the end of the hold.
+        std::lock_guard<std::mutex> lock(mutex_);
+        waiting_ = now_waiting;
+        if (now_waiting)
+          opened_at_ = now;
+      }
+      waiting = now_waiting;
+      if (waiting)
+      {
+        last_frame = now;
+        continue;
+      }
       if (status == GrabStatus::Frame)
       {
-        streamed = true;
         last_frame = now;
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          last_frame_at_ = now;
+          have_frame_ = true;
+          if (!have_frame && streamed)
+            ++stats_.reconnects;  // counted once frames flow again, not when a dead device merely opens
+        }
+        if (!have_frame)
+        {
+          // Only now is the source known to work: the back-off starts over, and "recovered" may be said.
+          have_frame = true;
+          streamed = true;
+          backoff = options_.initial_backoff;
+          std::ostringstream first;
+          first << "streaming from " << description_;
+          if (rate > 0.0)
+            first << " at " << rate << " Hz";
+          emit(CaptureEvent{ CaptureEvent::Type::FirstFrame, CaptureState::Streaming, first.str(), 0.0 });
+        }
         countGap(frame_);
         if (on_frame_)
         {
@@ -287,26 +346,36 @@ void CaptureThread::run()
         finished = true;
         break;
       }
-      if (std::chrono::duration<double>(now - last_frame).count() > options_.stall_timeout)
+      const double limit = have_frame ? options_.stall_timeout : options_.first_frame_timeout;
+      if (std::chrono::duration<double>(now - last_frame).count() > limit)
       {
         std::ostringstream stall;
-        stall << description_ << ": no frame for " << options_.stall_timeout << " s";
+        stall << description_ << ": no frame for " << limit << " s";
+        if (!have_frame)
+          stall << " after opening";
         lost_message = stall.str();
         break;
       }
     }
-    closeSource();
 
     if (finished)
     {
+      closeSource();
       setState(CaptureState::Finished, "end of " + description_);
       waitFor(std::numeric_limits<double>::infinity());
       break;
     }
     if (lost_message.empty())
+    {
+      closeSource();
       break;  // stop requested
+    }
+    // Report first: closing a device that is gone may take a while.
     fail(lost_message, backoff, false);
-    if (!waitFor(backoff))
+    const Clock::time_point close_start = Clock::now();
+    closeSource();
+    const double close_time = std::chrono::duration<double>(Clock::now() - close_start).count();
+    if (!waitFor(std::max(0.0, backoff - close_time)))
       break;
     backoff = std::min(2.0 * backoff, options_.max_backoff);
   }

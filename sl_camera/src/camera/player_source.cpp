@@ -49,7 +49,11 @@ bool PlayerSource::isImageFile(const std::string& path)
 }
 
 PlayerSource::PlayerSource(const std::string& path, double rate, bool loop)
-  : path_(path), rate_(rate), loop_(loop), clock_(std::make_shared<SteadyPacingClock>())
+  : path_(path)
+  , rate_(rate)
+  , loop_(loop)
+  , clock_(std::make_shared<SteadyPacingClock>())
+  , unreadable_(std::make_shared<UnreadableFiles>())
 {
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw std::invalid_argument("player rate must be a finite rate > 0 Hz, got " + std::to_string(rate));
@@ -131,6 +135,16 @@ double PlayerSource::nominalRate() const
   return rate_;
 }
 
+bool PlayerSource::waiting() const
+{
+  return open_ && gate_ && !gate_->isOpen();
+}
+
+void PlayerSource::setStartGate(std::shared_ptr<const StartGate> gate)
+{
+  gate_ = std::move(gate);
+}
+
 bool PlayerSource::openVideo()
 {
   // FFmpeg reads nearly every container; OpenCV's own MJPEG reader needs no codec library. Other
@@ -174,6 +188,10 @@ GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
   using std::chrono::steady_clock;
   if (!open_)
     throw CameraError(CameraError::Kind::Lost, description() + ": not open");
+
+  // Held before the start: wait on the gate (not a sleep), so the start is not delayed.
+  if (gate_ && !gate_->waitFor(timeout))
+    return GrabStatus::Timeout;
 
   const bool at_end = video_ ? false : next_index_ >= files_.size();
   if (at_end && !loop_)
@@ -252,13 +270,17 @@ GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
       raw.release();
     }
     if (raw.empty())
+    {
+      unreadable_->add(file);
       throw CameraError(CameraError::Kind::Frame, "player: cannot read image " + file + " (unreadable or corrupt)");
+    }
     try
     {
       toMono8(raw, frame.image);
     }
     catch (const std::invalid_argument& e)
     {
+      unreadable_->add(file);
       throw CameraError(CameraError::Kind::Frame, "player: image " + file + ": " + e.what());
     }
   }

@@ -24,6 +24,10 @@
 
 #include "sl_camera/camera/camera_config.h"
 #include "sl_camera/camera/capture_thread.h"
+#include "sl_camera/camera/player_source.h"
+#include "sl_camera/camera/start_gate.h"
+#include "sl_camera/camera/unreadable_files.h"
+#include "sl_projector/rig.h"
 
 namespace sl_camera
 {
@@ -37,7 +41,9 @@ struct Params
   std::string frame_id = "camera_optical_frame";
   std::string camera_name = "camera";
   std::string camera_info_url;
+  std::string rig_file;                  ///< rig whose camera image size the camera must deliver ("": none)
   bool player_ignores_settings = false;  ///< width/height/exposure/gain were set (not default) for the player
+  bool offsets_ignored = false;          ///< offset_x/offset_y set for a back-end without region offsets
 };
 
 template <typename T>
@@ -65,6 +71,34 @@ std::string deviceParam(const ros::NodeHandle& pnh)
   }
 }
 
+/// `socket_buffer` and `packet_size`: "auto" (or 0) or a number of bytes.
+int autoOrBytesParam(const ros::NodeHandle& pnh, const std::string& name)
+{
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(name, v))
+    return 0;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
+    return static_cast<int>(v);
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString)
+  {
+    const std::string text = static_cast<std::string>(v);
+    if (text == "auto")
+      return 0;
+    try
+    {
+      size_t used = 0;
+      const long bytes = std::stol(text, &used);
+      if (used == text.size() && bytes >= 0 && bytes <= (1L << 30))
+        return static_cast<int>(bytes);
+    }
+    catch (const std::exception&)
+    {
+      // reported below
+    }
+  }
+  throw std::invalid_argument("~" + name + " must be auto or a number of bytes");
+}
+
 Params readParams(const ros::NodeHandle& pnh)
 {
   Params p;
@@ -84,15 +118,45 @@ Params readParams(const ros::NodeHandle& pnh)
   c.settings.exposure = param(pnh, "exposure", c.settings.exposure);
   c.settings.gain = param(pnh, "gain", c.settings.gain);
   c.loop = param(pnh, "loop", c.loop);
+  c.settings.offset_x = param(pnh, "offset_x", c.settings.offset_x);
+  c.settings.offset_y = param(pnh, "offset_y", c.settings.offset_y);
   c.reconnect_max_backoff = param(pnh, "reconnect_max_backoff", c.reconnect_max_backoff);
+  c.stall_timeout = param(pnh, "stall_timeout", c.stall_timeout);
   try
   {
-    c.validate();
+    c.aravis.packet_socket = parsePacketSocketMode(param<std::string>(pnh, "packet_socket", "auto"));
   }
   catch (const std::invalid_argument& e)
   {
     throw std::invalid_argument(std::string("~") + e.what());
   }
+  c.aravis.socket_buffer = autoOrBytesParam(pnh, "socket_buffer");
+  c.aravis.packet_size = autoOrBytesParam(pnh, "packet_size");
+  p.rig_file = param<std::string>(pnh, "rig_file", "");
+  try
+  {
+    c.validate();
+    if (!p.rig_file.empty())
+    {
+      // The decoder triangulates with this rig: a camera image of another size cannot be decoded.
+      sl_projector::Rig rig;
+      try
+      {
+        rig = sl_projector::loadRig(p.rig_file);
+      }
+      catch (const std::exception& e)
+      {
+        throw std::invalid_argument(std::string("rig_file: ") + e.what());
+      }
+      if (c.backend != CameraBackend::Player)
+        c.applyRigSize(rig.camera.width, rig.camera.height, p.rig_file);
+    }
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw std::invalid_argument(std::string("~") + e.what());
+  }
+  p.offsets_ignored = c.backend != CameraBackend::Aravis && (c.settings.offset_x >= 0 || c.settings.offset_y >= 0);
   p.player_ignores_settings = c.backend == CameraBackend::Player &&
                               (c.settings.width != 0 || c.settings.height != 0 || c.settings.exposure > 0.0 ||
                                c.settings.gain >= 0.0);
@@ -114,6 +178,12 @@ Params readParams(const ros::NodeHandle& pnh)
   return p;
 }
 
+/// A subscriber of image_raw alone (no camera_info) starts a held player after this long, s.
+constexpr double kImageOnlyStartGrace = 0.5;
+/// Unreadable files: names shown in the diagnostics, and the shortest interval between log lines.
+constexpr std::size_t kUnreadableNamesShown = 5;
+constexpr double kUnreadableLogInterval = 5.0;
+
 ros::Time toRosTime(CaptureClock::time_point t)
 {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
@@ -129,6 +199,10 @@ ros::Time toRosTime(CaptureClock::time_point t)
  * The device is opened and read on a worker thread; a missing or lost device is reported and
  * retried with a back-off, without a restart. Diagnostics: state, frame rate, dropped frames,
  * reconnects, last error.
+ *
+ * The player starts at once (listing the folder, so a missing one is reported) but holds frame 0
+ * until the first subscriber is connected (lazy start, as image_pipeline subscribes lazily), then
+ * plays on whether or not anyone listens: a subscriber that waits for the player gets frame 0.
  */
 class CameraNodelet : public nodelet::Nodelet
 {
@@ -158,6 +232,13 @@ private:
     device_ = config.resolvedDevice();
     if (params_.player_ignores_settings)
       NODELET_WARN("~width, ~height, ~exposure and ~gain have no effect with backend player (leave them at 0, 0, 0, -1)");
+    if (params_.offsets_ignored)
+      NODELET_WARN("~offset_x and ~offset_y have an effect with backend aravis only (leave them at -1)");
+    if (!params_.rig_file.empty())
+    {
+      expected_width_ = config.backend == CameraBackend::Player ? 0 : config.settings.width;
+      expected_height_ = config.backend == CameraBackend::Player ? 0 : config.settings.height;
+    }
 
     // Calibration (a file read; quick). Without one, camera_info carries the image size only.
     camera_info_.reset(new camera_info_manager::CameraInfoManager(nh, params_.camera_name, params_.camera_info_url));
@@ -174,8 +255,30 @@ private:
                    params_.camera_name.c_str(), why.c_str());
     }
 
+    // The source exists before the topics are advertised: the player's start gate must be in place
+    // when the first subscriber connects.
+    std::unique_ptr<FrameSource> source = createFrameSource(config);
+    if (auto* player = dynamic_cast<PlayerSource*>(source.get()))
+    {
+      start_gate_ = std::make_shared<StartGate>();
+      player->setStartGate(start_gate_);
+      unreadable_ = player->unreadableFiles();
+    }
+
     image_transport_.reset(new image_transport::ImageTransport(nh));
-    publisher_ = image_transport_->advertiseCamera("image_raw", 1);
+    // Connection counts for the player's start (any transport counts as an image subscriber).
+    auto image_connect = [this](const image_transport::SingleSubscriberPublisher&) {
+      ++image_subscribers_;
+      maybeStartPlayback();
+    };
+    auto image_disconnect = [this](const image_transport::SingleSubscriberPublisher&) { --image_subscribers_; };
+    auto info_connect = [this](const ros::SingleSubscriberPublisher&) {
+      ++info_subscribers_;
+      maybeStartPlayback();
+    };
+    auto info_disconnect = [this](const ros::SingleSubscriberPublisher&) { --info_subscribers_; };
+    publisher_ =
+        image_transport_->advertiseCamera("image_raw", 1, image_connect, image_disconnect, info_connect, info_disconnect);
 
     min_rate_ = max_rate_ = config.settings.rate;
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
@@ -189,25 +292,81 @@ private:
       const double rate = nominal_rate_.load();
       if (rate > 0.0)
         min_rate_ = max_rate_ = rate;  // the rate the device actually runs at
-      updater_->update();
+      maybeStartPlayback();  // a subscriber of the image alone starts the player after a grace time
+      logUnreadableFiles();
+      // A camera that stops (or starts) delivering is published at once, not at the next diagnostic_period.
+      const bool failing = captureFailing();
+      if (failing != published_failing_)
+      {
+        published_failing_ = failing;
+        updater_->force_update();
+      }
+      else
+      {
+        updater_->update();
+      }
     });
 
     // Device I/O happens on the capture thread only: onInit returns at once.
     capture_.reset(new CaptureThread(
-        createFrameSource(config), config.captureOptions(), [this](const Frame& frame) { publish(frame); },
+        std::move(source), config.captureOptions(), [this](const Frame& frame) { publish(frame); },
         [this](const CaptureEvent& event) { log(event); }));
     NODELET_INFO("camera: %s, publishing %s and %s in frame '%s'", capture_->sourceDescription().c_str(),
                  publisher_.getTopic().c_str(), publisher_.getInfoTopic().c_str(), params_.frame_id.c_str());
     capture_->start();
   }
 
+  /// Opens the player's start gate once a subscriber is there (callback and timer threads).
+  void maybeStartPlayback()
+  {
+    if (!start_gate_ || start_gate_->isOpen())
+      return;
+    std::lock_guard<std::mutex> lock(start_mutex_);
+    const int images = image_subscribers_.load();
+    const ros::WallTime now = ros::WallTime::now();
+    if (images <= 0)
+      image_subscribed_since_ = ros::WallTime();
+    else if (image_subscribed_since_.isZero())
+      image_subscribed_since_ = now;
+    const double image_for = images > 0 ? (now - image_subscribed_since_).toSec() : 0.0;
+    if (!start_gate_->isOpen() && shouldStartPlayback(images, info_subscribers_.load(), image_for, kImageOnlyStartGrace))
+    {
+      start_gate_->open();
+      NODELET_INFO("a subscriber is connected: starting playback with frame 0");
+    }
+  }
+
+  /// Timer thread: names the files the player could not read, new ones at most every few seconds.
+  void logUnreadableFiles()
+  {
+    if (!unreadable_)
+      return;
+    const ros::WallTime now = ros::WallTime::now();
+    if (!last_unreadable_log_.isZero() && (now - last_unreadable_log_).toSec() < kUnreadableLogInterval)
+      return;
+    const std::vector<std::string> fresh = unreadable_->from(unreadable_logged_);
+    if (fresh.empty())
+      return;
+    unreadable_logged_ += fresh.size();
+    last_unreadable_log_ = now;
+    NODELET_WARN("player: skipping %zu unreadable file%s (%zu in all, see diagnostics): %s", fresh.size(),
+                 fresh.size() == 1 ? "" : "s", unreadable_logged_, UnreadableFiles::join(fresh).c_str());
+  }
+
   /// On the capture thread: one frame to ROS.
   void publish(const Frame& frame)
   {
+    const cv::Mat& m = frame.image;
+    if (expected_width_ > 0 && (m.cols != expected_width_ || m.rows != expected_height_))
+    {
+      // Thrown into the capture thread, which counts and reports it as an unusable frame.
+      throw std::runtime_error("the camera delivers " + std::to_string(m.cols) + " x " + std::to_string(m.rows) +
+                               " px but the rig file " + params_.rig_file + " is for " +
+                               std::to_string(expected_width_) + " x " + std::to_string(expected_height_) + " px");
+    }
     frequency_->tick();
     if (publisher_.getNumSubscribers() == 0)
       return;
-    const cv::Mat& m = frame.image;
     // A new message per frame: subscribers in the same process keep a pointer to it.
     auto image = boost::make_shared<sensor_msgs::Image>();
     image->header.stamp = ros::Time::isSimTime() ? ros::Time::now() : toRosTime(frame.stamp);
@@ -241,20 +400,22 @@ private:
   {
     switch (event.type)
     {
-      case CaptureEvent::Type::StateChanged:
-        if (event.state == CaptureState::Streaming || event.state == CaptureState::Finished)
-        {
-          std::lock_guard<std::mutex> lock(log_mutex_);
-          if (!last_logged_error_.empty())
-            NODELET_INFO("recovered: %s", event.message.c_str());
-          else
-            NODELET_INFO("%s", event.message.c_str());
-          last_logged_error_.clear();
-        }
+      case CaptureEvent::Type::FirstFrame:
+      {
+        // Frames really arrive: only now is it a recovery, and only now may the same error be logged again.
+        std::lock_guard<std::mutex> lock(log_mutex_);
+        if (!last_logged_error_.empty())
+          NODELET_INFO("recovered: %s", event.message.c_str());
         else
-        {
+          NODELET_INFO("%s", event.message.c_str());
+        last_logged_error_.clear();
+        break;
+      }
+      case CaptureEvent::Type::StateChanged:
+        if (event.state == CaptureState::Finished)
+          NODELET_INFO("%s", event.message.c_str());
+        else
           NODELET_DEBUG("%s", event.message.c_str());
-        }
         if (event.state == CaptureState::Streaming)
           nominal_rate_ = capture_ ? capture_->stats().nominal_rate : 0.0;
         break;
@@ -281,6 +442,14 @@ private:
     }
   }
 
+  /// True when the capture diagnostic is an error: no device, or no frames.
+  bool captureFailing() const
+  {
+    const CaptureStats s = capture_ ? capture_->stats() : CaptureStats();
+    return s.state == CaptureState::Reconnecting || (s.state == CaptureState::Streaming && s.overdue) ||
+           (s.state == CaptureState::Opening && (s.open_failures > 0 || !s.last_error.empty()));
+  }
+
   void diagnoseCapture(diagnostic_updater::DiagnosticStatusWrapper& stat)
   {
     const CaptureStats s = capture_ ? capture_->stats() : CaptureStats();
@@ -288,7 +457,17 @@ private:
     switch (s.state)
     {
       case CaptureState::Streaming:
-        stat.summary(DiagnosticStatus::OK, "streaming");
+        // Open is not enough: without frames the camera is of no use (ERROR, not OK).
+        if (s.waiting)
+          stat.summary(DiagnosticStatus::OK, "waiting for a subscriber to start playback");
+        else if (s.overdue && s.have_frame)
+          stat.summaryf(DiagnosticStatus::ERROR, "no frame for %.1f s", s.since_frame);
+        else if (s.overdue)
+          stat.summaryf(DiagnosticStatus::ERROR, "opened, but no frame for %.1f s", s.since_frame);
+        else if (!s.have_frame)
+          stat.summary(DiagnosticStatus::WARN, "opened, waiting for the first frame");
+        else
+          stat.summary(DiagnosticStatus::OK, "streaming");
         break;
       case CaptureState::Finished:
         stat.summary(DiagnosticStatus::OK, "end of playback");
@@ -315,13 +494,39 @@ private:
     stat.add("failed opens", s.open_failures);
     stat.add("device rate (Hz)", s.nominal_rate);
     stat.add("last error", s.last_error.empty() ? std::string("none") : s.last_error);
+    if (s.state == CaptureState::Streaming)
+      stat.addf("since last frame (s)", "%.2f", s.since_frame);
+    if (params_.camera.backend == CameraBackend::Aravis)
+    {
+      const AravisOptions& a = params_.camera.aravis;
+      stat.add("packet socket", packetSocketModeName(a.packet_socket));
+      stat.add("socket buffer (bytes)", a.socket_buffer > 0 ? std::to_string(a.socket_buffer) : std::string("auto"));
+      stat.add("packet size (bytes)", a.packet_size > 0 ? std::to_string(a.packet_size) : std::string("auto"));
+    }
+    if (unreadable_)
+    {
+      // The names (the first few) are here as well as in the log, so they can be found later.
+      const std::size_t n = unreadable_->count();
+      stat.add("unreadable files", unreadable_->summary(kUnreadableNamesShown));
+      stat.add("unreadable file count", n);
+      if (n > 0)
+      {
+        const std::string message = stat.message;
+        const unsigned char warn = DiagnosticStatus::WARN;
+        const unsigned char level = stat.level > warn ? stat.level : warn;
+        stat.summaryf(level, "%s; %zu unreadable file%s skipped", message.c_str(), n, n == 1 ? "" : "s");
+      }
+    }
   }
 
   void diagnoseRate(diagnostic_updater::DiagnosticStatusWrapper& stat)
   {
     frequency_->run(stat);
-    if (capture_ && capture_->state() == CaptureState::Finished)
+    const CaptureStats s = capture_ ? capture_->stats() : CaptureStats();
+    if (s.state == CaptureState::Finished)
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "end of playback, no more frames");
+    else if (s.state == CaptureState::Streaming && s.waiting)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "waiting for a subscriber to start playback");
   }
 
   Params params_;
@@ -337,6 +542,18 @@ private:
   std::mutex log_mutex_;
   std::string last_logged_error_;
   ros::WallTime last_error_time_;
+  int expected_width_ = 0, expected_height_ = 0;  ///< the rig's image size (0: no rig given)
+  bool published_failing_ = false;                 ///< timer thread only
+  // Player only (null otherwise): the gate that holds frame 0 until a subscriber is there, and the
+  // files it could not read.
+  std::shared_ptr<StartGate> start_gate_;
+  std::shared_ptr<const UnreadableFiles> unreadable_;
+  std::atomic<int> image_subscribers_{ 0 };
+  std::atomic<int> info_subscribers_{ 0 };
+  std::mutex start_mutex_;
+  ros::WallTime image_subscribed_since_;  ///< guarded by start_mutex_
+  std::size_t unreadable_logged_ = 0;     ///< timer thread only: names logged so far
+  ros::WallTime last_unreadable_log_;     ///< timer thread only
   std::unique_ptr<CaptureThread> capture_;  // last: stopped first, before what its callbacks use
 };
 

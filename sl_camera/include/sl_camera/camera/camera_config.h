@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "sl_camera/camera/aravis_options.h"
 #include "sl_camera/camera/capture_thread.h"
 #include "sl_camera/camera/frame_source.h"
 
@@ -47,6 +48,13 @@ struct CameraConfig
   bool loop = false;
   /** Longest wait between two attempts to (re)open the device, s. */
   double reconnect_max_backoff = 4.0;
+  /**
+   * A streaming device that delivers no frame for this long is closed and opened again, s. The
+   * capture thread waits at least three frame periods plus two exposures (see captureOptions()).
+   */
+  double stall_timeout = 1.0;
+  /** GigE Vision transport (Aravis back-end only). */
+  AravisOptions aravis;
 
   /**
    * Checks every field; @throws std::invalid_argument whose message starts with the field's name,
@@ -57,8 +65,17 @@ struct CameraConfig
   /** The device to open: `device`, or the back-end's default ("/dev/video0" for V4L2) when empty. */
   std::string resolvedDevice() const;
 
-  /** Capture-thread timing derived from the rate, exposure and reconnect_max_backoff. */
+  /** Capture-thread timing derived from the rate, exposure, stall_timeout and reconnect_max_backoff. */
   CaptureOptions captureOptions() const;
+
+  /**
+   * Reconciles the image size with the camera image of a rig (calibration) file: width and height
+   * both 0 take the rig's size; a size that differs from the rig's is an error.
+   * @param rig_width, rig_height the rig's camera image, px
+   * @param rig_file the file's name, for the message
+   * @throws std::invalid_argument naming width/height and the rig file with both sizes
+   */
+  void applyRigSize(int rig_width, int rig_height, const std::string& rig_file);
 };
 
 /**

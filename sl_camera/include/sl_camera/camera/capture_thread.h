@@ -42,12 +42,19 @@ struct CaptureOptions
   double initial_backoff = 0.25;
   /** Longest wait between two attempts to open. */
   double max_backoff = 4.0;
-  /** A streaming source that delivers nothing for this long is treated as lost. */
-  double stall_timeout = 3.0;
+  /** A streaming source that delivers nothing for this long is treated as lost (closed and re-opened). */
+  double stall_timeout = 1.0;
+  /** The same for the first frame after opening (>= stall_timeout). */
+  double first_frame_timeout = 2.0;
+  /** Time without a frame after which CaptureStats::overdue is set (for diagnostics), s. */
+  double frame_overdue = 0.5;
   /** Frames counted as dropped when the gap between two stamps exceeds this many nominal periods. */
   double gap_tolerance = 1.5;
 
-  /** @throws std::invalid_argument naming the first field that is not finite and > 0 (or >= 1 for gap_tolerance). */
+  /**
+   * @throws std::invalid_argument naming the first field that is not finite and > 0 (or >= 1 for
+   * gap_tolerance, >= stall_timeout for first_frame_timeout).
+   */
   void validate() const;
 };
 
@@ -62,6 +69,10 @@ struct CaptureStats
   std::string last_error;           ///< the latest error message ("" if none yet)
   double nominal_rate = 0.0;        ///< rate the open source reports, Hz (0: unknown)
   double retry_in = 0.0;            ///< back-off of the current wait in Reconnecting, s
+  bool have_frame = false;          ///< Streaming: a frame arrived since the source was opened
+  double since_frame = 0.0;         ///< Streaming: s since the last frame (or since opening, without one)
+  bool overdue = false;             ///< Streaming: since_frame > CaptureOptions::frame_overdue
+  bool waiting = false;             ///< Streaming: the source holds back its frames on purpose (FrameSource::waiting)
 };
 
 /** Something worth logging that happened on the capture thread. */
@@ -70,6 +81,7 @@ struct CaptureEvent
   enum class Type
   {
     StateChanged,  ///< the state changed; message describes it
+    FirstFrame,    ///< the first frame after opening arrived: the source really streams (again)
     Error,         ///< open failed, or the source was lost; message names the device
     FrameError,    ///< one frame was unusable; message names it (may come every frame: throttle)
     Warning        ///< a setting the device refused or adjusted
@@ -84,7 +96,11 @@ struct CaptureEvent
  * Owns a FrameSource and drives it on a worker thread through the states
  * Idle -> Opening -> Streaming -> (failure) Reconnecting -> Opening -> ...,
  * with an exponential back-off (initial_backoff doubling up to max_backoff) between attempts.
- * The source is opened once and read continuously; it is only re-opened after it failed.
+ * The source is opened once and read continuously; it is only re-opened after it failed: a Lost
+ * error, or no frame for stall_timeout (first_frame_timeout right after opening). The back-off
+ * starts over only once a frame arrived, so a device that opens but never streams is retried
+ * at the slow rate. A failure is reported (state Reconnecting, Error event) before the source is
+ * closed, so a close that takes long does not delay the report.
  *
  * Frames and events are delivered through callbacks on the worker thread; the frame passed to the
  * frame callback is reused for the next grab, so copy what you keep. Exceptions thrown by the
@@ -151,6 +167,13 @@ private:
   bool have_previous_ = false;
   std::uint64_t previous_sequence_ = 0;
   CaptureClock::time_point previous_stamp_;
+  std::uint64_t unusable_since_frame_ = 0;  ///< frame errors since the last good frame (part of its gap)
+
+  // Guarded by mutex_: when the current stream was opened and when its last frame arrived.
+  std::chrono::steady_clock::time_point opened_at_;
+  std::chrono::steady_clock::time_point last_frame_at_;
+  bool have_frame_ = false;
+  bool waiting_ = false;  ///< the source was waiting at the latest grab
 };
 
 }  // namespace sl_camera

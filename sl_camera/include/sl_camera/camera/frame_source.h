@@ -45,9 +45,11 @@ struct SourceSettings
 {
   int width = 0;         ///< image width, px; 0: keep the device's
   int height = 0;        ///< image height, px; 0: keep the device's
+  int offset_x = -1;     ///< left edge of the region on the sensor, px; < 0: centred (Aravis only)
+  int offset_y = -1;     ///< top edge of the region on the sensor, px; < 0: centred (Aravis only)
   double rate = 10.0;    ///< frame rate, Hz (> 0)
   double exposure = 0.0; ///< exposure time, s; <= 0: automatic
-  double gain = -1.0;    ///< gain, dB (Aravis) or the driver's raw units (V4L2); < 0: automatic
+  double gain = -1.0;    ///< gain in the device's units (Aravis: dB for Gain, raw for GainRaw; V4L2: raw); < 0: automatic
 };
 
 /**
@@ -117,6 +119,15 @@ public:
   virtual double nominalRate() const
   {
     return 0.0;
+  }
+
+  /**
+   * True while the open source holds back its frames on purpose (a player waiting for its start):
+   * grab() then returns Timeout, which the capture thread does not take for a stall.
+   */
+  virtual bool waiting() const
+  {
+    return false;
   }
 
   /**

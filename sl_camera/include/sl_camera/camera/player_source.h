@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "sl_camera/camera/frame_source.h"
+#include "sl_camera/camera/start_gate.h"
+#include "sl_camera/camera/unreadable_files.h"
 
 namespace cv
 {
@@ -30,9 +32,13 @@ namespace sl_camera
  * Frames are paced at @p rate Hz; at the end the player starts over when @p loop is set and
  * otherwise reports GrabStatus::EndOfStream. Images are converted to mono8 (colour to luma, 16 bit
  * to its top 8 bits). Stamps are the replay time; sequence numbers count the frames delivered.
- * An image that cannot be decoded gives a CameraError of kind Frame naming the file; the next
- * grab() continues with the next image. An image that no longer exists gives one of kind Lost (the
- * capture thread then opens, i.e. lists, the folder again).
+ * An image that cannot be decoded gives a CameraError of kind Frame naming the file, and the file
+ * is recorded in unreadableFiles(); the next grab() continues with the next image. An image that
+ * no longer exists gives one of kind Lost (the capture thread then opens, i.e. lists, the folder
+ * again).
+ *
+ * With a StartGate (setStartGate()), playback is held before frame 0 until the gate opens: grab()
+ * returns Timeout and waiting() is true, so frame 0 goes to the subscriber that opened the gate.
  */
 class PlayerSource : public FrameSource
 {
@@ -53,6 +59,24 @@ public:
   void close() override;
   bool isOpen() const override;
   double nominalRate() const override;
+  /** True while a start gate is set and still closed (nothing played yet). */
+  bool waiting() const override;
+
+  /**
+   * Holds playback before frame 0 until @p gate opens (nullptr: play at once, the default). The
+   * gate stays in force across re-opens; once open, it no longer holds anything. Call before
+   * the first grab().
+   */
+  void setStartGate(std::shared_ptr<const StartGate> gate);
+
+  /**
+   * Files that could not be decoded (or converted to mono8) so far, across re-opens. The record
+   * is shared and thread-safe: read it from any thread while the capture thread plays.
+   */
+  std::shared_ptr<const UnreadableFiles> unreadableFiles() const
+  {
+    return unreadable_;
+  }
 
   /** The images found by open(), in replay order (empty for a video). */
   const std::vector<std::string>& files() const
@@ -89,6 +113,8 @@ private:
   bool started_ = false;
   std::chrono::steady_clock::time_point next_due_;
   std::shared_ptr<PacingClock> clock_;
+  std::shared_ptr<const StartGate> gate_;
+  std::shared_ptr<UnreadableFiles> unreadable_;
 };
 
 }  // namespace sl_camera

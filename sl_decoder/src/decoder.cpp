@@ -30,6 +30,10 @@ constexpr int kDRow[4] = { -1, 0, 1, 0 };
 constexpr int kDCol[4] = { 0, -1, 0, 1 };
 constexpr int kOpposite[4] = { kSouth, kEast, kNorth, kWest };
 
+// Confidence factors of blobs split out of merged ones and of cells read from an outline.
+constexpr float kSplitWeight = 0.8f;
+constexpr float kOutlineWeight = 0.6f;
+
 // A rival candidate within this many pixels of the winner's epipolar error is as plausible.
 constexpr float kRivalEpipolarMargin = 0.5f;
 
@@ -754,11 +758,17 @@ void Decoder::computeDepth(DecodeResult& result)
     }
     if (!std::isfinite(z) || z < config_.min_depth || z > config_.max_depth)
       continue;
-    const float shape_term = std::min(1.f, b.margin / 0.3f);
+    // An outline cell's margin is in pixels (lopsided against straight edge), an NCC margin in
+    // correlation units.
+    const bool outline = b.level == BlobDetector::kBandLevel;
+    const float shape_term = std::min(1.f, outline ? b.margin / 2.f : b.margin / 0.3f);
     const float support_term = static_cast<float>(b.support) / 4.f;
     const float epipolar_term =
         std::max(0.f, 1.f - b.epipolar_error / static_cast<float>(config_.epipolar_tolerance));
-    b.confidence = (shape_term + support_term + epipolar_term) / 3.f;
+    // How it was identified: a blob split out of a merged one, or read from a saturated outline, is
+    // less certain than one found whole (the row check stands behind it, not its own shape).
+    const float method = outline ? kOutlineWeight : b.level > 0 ? kSplitWeight : 1.f;
+    b.confidence = method * (shape_term + support_term + epipolar_term) / 3.f;
     if (b.confidence < config_.min_confidence)
       continue;
     b.x = static_cast<float>(ray.x() * z);

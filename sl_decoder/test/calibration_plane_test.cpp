@@ -329,3 +329,34 @@ TEST(CalibrationPlane, RoughRigIsIdentifiedByTheCode)
     EXPECT_LE(all.meanErrorMm(), 0.3) << sign;  // measured 0.17 and 0.18 mm
   }
 }
+
+// A primitive whose rational fit leaves more than max_rational_rms (3 mm) is refused: it gets no
+// table entry and is reported as rejected; one inconsistent distance of five is left out instead.
+TEST(CalibrationPlane, InconsistentPrimitiveIsRefused)
+{
+  PlaneCalibrationOptions options;
+  options.normal = PlaneNormal::Camera;  // the target depth is the distance itself
+  PlaneCalibration cal(trueRig(), options);
+  const double distances[5] = { 0.5, 0.6, 0.7, 0.8, 0.9 };
+  // Image columns of a primitive on planes at depth z: u = 300 + 80 / z (disparity ~ 1 / z).
+  const double zigzag[5] = { 6.0, -6.0, 6.0, -6.0, 6.0 };     // 6 px is 20 to 60 mm of depth
+  const double one_bad[5] = { 0.0, 0.0, 9.0, 0.0, 0.0 };      // a wrong decode at 0.7 m
+  for (int k = 0; k < 5; ++k)
+  {
+    const double u = 300.0 + 80.0 / distances[k];
+    std::vector<PrimitiveSample> samples(3);
+    samples[0] = PrimitiveSample{ 0, 0, u, 200.0 };
+    samples[1] = PrimitiveSample{ 0, 1, u + zigzag[k], 200.0 };
+    samples[2] = PrimitiveSample{ 0, 2, u + one_bad[k], 200.0 };
+    EXPECT_EQ(cal.addSamples(distances[k], samples, "synthetic"), 3);
+  }
+  const PlaneCalibrationResult res = cal.fit();
+  EXPECT_EQ(res.calibrated, 2);
+  EXPECT_EQ(res.rejected, 1);
+  ASSERT_EQ(res.tables.rational.size(), 16u * 64u);
+  EXPECT_TRUE(res.tables.rational[0].valid);
+  EXPECT_FALSE(res.tables.rational[1].valid) << "the zigzag primitive must not be calibrated";
+  EXPECT_TRUE(res.tables.rational[2].valid) << "one bad distance of five is left out";
+  EXPECT_LT(res.tables.rational[2].rms, 1e-6);
+  EXPECT_NE(res.residualsCsv().find("rejected"), std::string::npos);
+}

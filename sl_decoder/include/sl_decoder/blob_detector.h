@@ -108,7 +108,7 @@ private:
   int components_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
   static constexpr int kLastLevel = 5;  // raised thresholds tried before cutting by the pitch
-  static constexpr float kBandMinMargin = 0.6f;  // px between the lopsided and the straight edge
+  static constexpr float kBandMinMargin = 0.3f;  // px between the lopsided and the straight edge
   std::vector<float> top_, bottom_;  // outline of a saturated band per column, px
   // Splitting of oversized components (buffers reused).
   std::vector<Blob> oversized_, pending_, parts_;

@@ -3,7 +3,8 @@
 # and runs each for FUZZ_SECONDS on a copy of its seed corpus (fuzz/corpus/<target>/). Prints one
 # line per target (runs, coverage, new corpus entries) and a verdict; exits 1 when a target found a
 # crash, a hang (one input over 10 s), an out-of-memory (2 GB) or a leak, printing the reproducer
-# (or when a run failed without one), 2 when the build fails.
+# (or when a run failed without one), 2 when the build fails. The last line is "N passed, N failed"
+# with one case per target (CI adds it to the tests' count).
 #   scripts/run_fuzz.sh [target ...]   (default: every target; `make fuzz` runs this)
 # Environment: FUZZ_SECONDS (30 per target), FUZZ_JOBS (2, build jobs),
 #   FUZZ_BUILD_DIR (catkin_ws/build_fuzz, git-ignored; runs in <build dir>/run/<target>/).
@@ -31,6 +32,7 @@ if ! { cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER=clang++ &&
        cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"; } > "$build/build.log" 2>&1; then
   tail -n 40 "$build/build.log"
   echo "run_fuzz: build failed (full log: $build/build.log)"
+  echo "0 passed, 1 failed"
   exit 2
 fi
 echo "fuzz: built ${#targets[@]} target(s) in $(( $(date +%s) - start )) s (log: $build/build.log); ${seconds} s each"
@@ -76,6 +78,8 @@ done
 total=$(( $(date +%s) - start ))
 if [[ ${#failed[@]} -gt 0 ]]; then
   echo "fuzz: FAILED in ${#failed[@]} of ${#targets[@]} target(s): ${failed[*]} (${total} s)"
+  echo "$(( ${#targets[@]} - ${#failed[@]} )) passed, ${#failed[@]} failed"
   exit 1
 fi
 echo "fuzz: no crash, hang, out-of-memory or leak in ${#targets[@]} target(s), ${seconds} s each (${total} s)"
+echo "${#targets[@]} passed, 0 failed"

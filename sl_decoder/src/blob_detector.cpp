@@ -286,10 +286,11 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
     b.u = a.swx / a.sw;
     b.v = a.swy / a.sw;
     b.contrast = a.peak;
-    if (primitiveSized(b) && !merged(b))
+    const bool split = config_.split_merged;
+    if (primitiveSized(b) && !(split && merged(b)))
       blobs[kept++] = b;
-    else if (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height || b.area > config_.max_area ||
-             static_cast<double>(b.width()) > config_.max_aspect * b.height())
+    else if (split && (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height ||
+                       b.area > config_.max_area || static_cast<double>(b.width()) > config_.max_aspect * b.height()))
       oversized_.push_back(b);
   }
   blobs.resize(kept);

@@ -22,7 +22,7 @@ namespace sl_decoder
  * are reused across calls: after the first image of a given size, detect() does not allocate.
  *
  * Near the camera, defocus and overexposure fill the gaps between primitives, so whole rows of them
- * come out as one component. A component too large for a primitive is therefore re-thresholded
+ * come out as one component. With DecoderConfig::split_merged, a component too large for a primitive is therefore re-thresholded
  * inside its box at rising fractions of its grey range (like the stable regions of MSER): the
  * bridges between primitives are dimmer than their cores, so at some level the parts that pass
  * the filters appear. Such blobs carry the level in Blob::level.

@@ -68,9 +68,9 @@ struct DecodeResult
  *  7. depth: ray-ray triangulation with the projector ray of the decoded primitive, or the
  *     per-primitive rational or linear tables of a plane calibration.
  *
- * Near range: blobs merged by defocus and overexposure are split at raised thresholds, cut at the
- * pattern's pitch, or (saturated rows) read from their outline (BlobDetector); such blobs are
- * decoded only where the shapes around them spell the pattern.
+ * Near range (DecoderConfig::split_merged): blobs merged by defocus and overexposure are split at
+ * raised thresholds, cut at the pattern's pitch, or (saturated rows) read from their outline
+ * (BlobDetector); such blobs are decoded only where the shapes around them spell the pattern.
  *
  * Confidence (0..1) is the mean of the shape margin (saturating at 0.3; at 2 px for outline cells),
  * the support (of 4) and the epipolar fit (1 at the curve, 0 at the tolerance), times 0.8 for split

@@ -115,6 +115,7 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   d.nominal_depth = param(pnh, "nominal_depth", d.nominal_depth);
   d.min_support = param(pnh, "min_support", d.min_support);
   d.min_confidence = param(pnh, "min_confidence", d.min_confidence);
+  d.split_merged = param(pnh, "split_merged", d.split_merged);
   d.depth_mode = parseDepthMode(param(pnh, "depth_mode", std::string(depthModeName(d.depth_mode))));
   try
   {

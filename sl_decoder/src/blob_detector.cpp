@@ -65,6 +65,20 @@ inline int BlobDetector::find(int i)
   return i;
 }
 
+void BlobDetector::linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end)
+{
+  // Two-pointer sweep: [a, b) and [c, d) are 8-connected when a <= d and c <= b.
+  int p = prev_begin;
+  for (int c = cur_begin; c < cur_end; ++c)
+  {
+    const Run& cr = runs_[static_cast<size_t>(c)];
+    while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
+      ++p;
+    for (int q = p; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
+      unite(c, q);
+  }
+}
+
 inline void BlobDetector::unite(int a, int b)
 {
   a = find(a);
@@ -226,16 +240,7 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
       run.peak = peak;
     }
     const int cur_end = static_cast<int>(runs_.size());
-    // Two-pointer sweep: [a, b) and [c, d) are 8-connected when a <= d and c <= b.
-    int p = prev_begin;
-    for (int c = cur_begin; c < cur_end; ++c)
-    {
-      const Run& cr = runs_[static_cast<size_t>(c)];
-      while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
-        ++p;
-      for (int q = p; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
-        unite(c, q);
-    }
+    linkRows(prev_begin, prev_end, cur_begin, cur_end);
     prev_begin = cur_begin;
     prev_end = cur_end;
   }
@@ -560,15 +565,7 @@ void BlobDetector::labelAbove(const cv::Mat& image, const Blob& box, int thresho
       x = end;
     }
     const int cur_end = static_cast<int>(runs_.size());
-    int p = prev_begin;
-    for (int c = cur_begin; c < cur_end; ++c)
-    {
-      const Run& cr = runs_[static_cast<size_t>(c)];
-      while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
-        ++p;
-      for (int q = p; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
-        unite(c, q);
-    }
+    linkRows(prev_begin, prev_end, cur_begin, cur_end);
     prev_begin = cur_begin;
     prev_end = cur_end;
   }

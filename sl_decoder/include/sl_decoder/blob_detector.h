@@ -81,6 +81,8 @@ private:
   // library's PLT cost more than the work.
   inline int find(int i);
   inline void unite(int a, int b);
+  /// Unites the runs [cur_begin, cur_end) of a row with the 8-connected ones of the row above.
+  void linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end);
   /// True when a finished blob passes the size, aspect and fill filters.
   bool primitiveSized(const Blob& b) const;
   /// True when a blob is wider than two merged primitives would need to be.

@@ -36,7 +36,7 @@ EvalStats run(const sl_projector::Rig& rig, const std::vector<std::string>& scen
 
 /// What a scene must reach. Renders are seeded (1000, 1001, ... as in sl_eval), so the measured values
 /// repeat exactly from run to run; the floors leave a small margin for another CPU's floating point.
-/// Where the top-level README's table (sl_eval, 3 frames) prints a value, valid % and mean error are
+/// Where doc/results.md's table (sl_eval, 3 frames) prints a value, valid % and mean error are
 /// one unit of its last digit from it (0.1 %: 1-3 primitives in 3 frames; 0.01 mm); the max error,
 /// a single point, about 5 %; near points 5 % below.
 struct Floors
@@ -66,24 +66,24 @@ void expectFloors(const EvalStats& s, const Floors& f, const std::string& what)
 }  // namespace
 
 // Default simulator settings, full triangulation. The floors (97 % valid, 1 mm mean on the
-// 700 mm plane) are far below what is reached: the README's figures are asserted instead.
+// 700 mm plane) are far below what is reached: the doc/results.md's figures are asserted instead.
 TEST(Decoder, PlaneAt700mm)
 {
   const EvalStats s = run(defaultRig(), { "plane_700" }, 3);
   EXPECT_GT(s.visible, 3 * 600);
-  // README: 100.0 %, 0.11 mm mean, max 5.9. Measured: 100.000 %, 0.109 mm, max 5.85 mm, no near point.
+  // doc/results.md: 100.0 %, 0.11 mm mean, max 5.9. Measured: 100.000 %, 0.109 mm, max 5.85 mm, no near point.
   expectFloors(s, { 99.9, 0.12, 6.1, 0.0, 0.0 }, "plane_700");
 }
 
 TEST(Decoder, ThreePlanes)
 {
   const EvalStats s = run(defaultRig(), { "three_planes" }, 3);
-  // README: 97.8 %, 0.16 mm mean, max 6.16, 529 near points per frame (the two nearer planes).
+  // doc/results.md: 97.8 %, 0.16 mm mean, max 6.16, 529 near points per frame (the two nearer planes).
   // Measured: 97.821 %, 0.163 mm, max 6.16 mm, 529.0 near points per frame.
   expectFloors(s, { 97.7, 0.17, 6.5, 500.0, kAny }, "three_planes");
 }
 
-// The README's claim for the sweep, as printed there (rounded): valid 95.7..99.6 %, mean 0.08..0.36 mm
+// The doc/results.md's claim for the sweep, as printed there (rounded): valid 95.7..99.6 %, mean 0.08..0.36 mm
 // at every step. Measured (3 frames each): valid 95.666 % (850 mm) .. 99.592 % (600 mm), mean
 // 0.080 mm (600 mm) .. 0.364 mm (950 mm), max 0.54 mm (500 mm) .. 9.88 mm (900 mm).
 TEST(Decoder, PlanesFrom450To950mm)
@@ -92,7 +92,7 @@ TEST(Decoder, PlanesFrom450To950mm)
   {
     const EvalStats s = run(defaultRig(), { "plane_" + std::to_string(mm) }, 3);
     // Near points: none in front of a plane, but at 950 mm 29 per frame on the floor at its foot.
-    // Floors a little under the README's 95.7..99.6 % and 0.08..0.36 mm: the worst steps (850 mm,
+    // Floors a little under the doc/results.md's 95.7..99.6 % and 0.08..0.36 mm: the worst steps (850 mm,
     // 950 mm) sit on them within a third of a primitive and 0.001 mm, too close for another CPU.
     const Floors floors{ 95.0, 0.40, 10.4, mm < 950 ? 0.0 : 27.0, mm < 950 ? 0.0 : 31.0 };
     expectFloors(s, floors, "plane_" + std::to_string(mm));
@@ -132,34 +132,34 @@ int fewestPointsOnLeg(const char* scene_name, double axis_x, double radius, int 
   return fewest;
 }
 
-// The README's claims: 32+ points on the 20 mm leg and 24+ on the 12 mm leg in every frame. Measured
+// The doc/results.md's claims: 32+ points on the 20 mm leg and 24+ on the 12 mm leg in every frame. Measured
 // (5 frames): 32 and 24 in the worst frame.
 TEST(Decoder, TwentyMillimetreLegHasPointsInEveryFrame)
 {
   const int fewest = fewestPointsOnLeg("table_leg_20mm", 0.655, 0.010, 5);
   std::cout << "table_leg_20mm: at least " << fewest << " points on the leg per frame\n";
-  EXPECT_GE(fewest, 30);  // measured 32 (README: 32+), two points of margin for another CPU
+  EXPECT_GE(fewest, 30);  // measured 32 (doc/results.md: 32+), two points of margin for another CPU
 }
 
 TEST(Decoder, TwelveMillimetreLegHasPointsInEveryFrame)
 {
   const int fewest = fewestPointsOnLeg("table_leg_12mm", 0.651, 0.006, 5);
   std::cout << "table_leg_12mm: at least " << fewest << " points on the leg per frame\n";
-  EXPECT_GE(fewest, 22);  // measured 24 (README: 24+), two points of margin for another CPU
+  EXPECT_GE(fewest, 22);  // measured 24 (doc/results.md: 24+), two points of margin for another CPU
 }
 
 // Objects in front of a plane: the object must be decoded (near points), not only left undecoded.
 TEST(Decoder, ObjectsBeforePlanes)
 {
-  // README: 96.5 %, 0.23 mm mean, max 9.9 (the silhouette), 357 near points per frame.
+  // doc/results.md: 96.5 %, 0.23 mm mean, max 9.9 (the silhouette), 357 near points per frame.
   // Measured: 96.456 %, 0.233 mm, max 9.93 mm, 357.0 near points per frame.
   expectFloors(run(defaultRig(), { "cylinder_plane_650" }, 3), { 96.4, 0.24, 10.4, 340.0, kAny }, "cylinder");
-  // README: 89.7 % (the saturated highlight loses primitives; 94.5 % with split_merged), 0.92 mm
+  // doc/results.md: 89.7 % (the saturated highlight loses primitives; 94.5 % with split_merged), 0.92 mm
   // mean, max 26, 598.7 near. Measured: 89.719 %, 0.919 mm, max 25.98 mm, 598.7 near per frame.
   expectFloors(run(defaultRig(), { "shiny_bin_586" }, 3), { 89.6, 0.93, 27.3, 570.0, kAny }, "shiny bin");
-  // README: 99.7 %, 0.21 mm mean, max 6.12, 27.3 near. Measured: 99.680 %, 0.209 mm, 6.12 mm, 27.3.
+  // doc/results.md: 99.7 %, 0.21 mm mean, max 6.12, 27.3 near. Measured: 99.680 %, 0.209 mm, 6.12 mm, 27.3.
   expectFloors(run(defaultRig(), { "table_leg_12mm" }, 3), { 99.6, 0.22, 6.4, 26.0, kAny }, "12 mm leg");
-  // README: 99.9 %, 0.18 mm mean, max 9.98, 34.7 near. Measured: 99.918 %, 0.184 mm, 9.98 mm, 34.7.
+  // doc/results.md: 99.9 %, 0.18 mm mean, max 9.98, 34.7 near. Measured: 99.918 %, 0.184 mm, 9.98 mm, 34.7.
   expectFloors(run(defaultRig(), { "table_leg_20mm" }, 3), { 99.8, 0.19, 10.5, 33.0, kAny }, "20 mm leg");
 }
 

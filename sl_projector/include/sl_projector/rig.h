@@ -165,7 +165,7 @@ public:
 };
 
 /**
- * @brief Loads a rig (calibration) file. See the README for the format.
+ * @brief Loads a rig (calibration) file. See sl_projector/README.md ("Rig file") for the format.
  * @throws RigFileError if the file is missing, malformed or inconsistent (also a key of the wrong
  * YAML type, e.g. `mount: 1`); the message names the file and the key. No yaml-cpp exception
  * escapes.

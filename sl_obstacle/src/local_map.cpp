@@ -24,6 +24,9 @@ constexpr int kMaxCellsPerSide = 4096;
 constexpr std::size_t kMaxVoxels = std::size_t(1) << 25;
 // Lattice indices are clamped to this so that window arithmetic never overflows an int.
 constexpr double kMaxIndex = 1e9;
+// A free ray lowers a cell that holds hits only if it passes within this fraction of a cell of the
+// box around them (hits scatter by depth noise; a moved object must still be forgotten).
+constexpr double kExtentMargin = 0.25;
 
 void fail(const std::string& message)
 {
@@ -120,6 +123,7 @@ LocalMap::LocalMap(const MapParams& p) : params_(p)
   const std::size_t voxels = cells * static_cast<std::size_t>(slices_);
   logodds_.assign(voxels, 0.0F);
   updated_.assign(cells, -kInf);
+  extent_.assign(cells, LocalMap::kNoExtent);
   flags_.assign(voxels, 0);
   touched_.assign(voxels, 0);
   recenter(0.0, 0.0);
@@ -150,6 +154,7 @@ void LocalMap::clear()
 {
   std::fill(logodds_.begin(), logodds_.end(), 0.0F);
   std::fill(updated_.begin(), updated_.end(), -kInf);
+  std::fill(extent_.begin(), extent_.end(), LocalMap::kNoExtent);
 }
 
 void LocalMap::clearColumn(int rx)
@@ -159,6 +164,7 @@ void LocalMap::clearColumn(int rx)
     const std::size_t cell = static_cast<std::size_t>(ry) * n_ + rx;
     std::fill_n(logodds_.begin() + cell * slices_, slices_, 0.0F);
     updated_[cell] = -kInf;
+    extent_[cell] = LocalMap::kNoExtent;
   }
 }
 
@@ -167,6 +173,7 @@ void LocalMap::clearRow(int ry)
   const std::size_t first = static_cast<std::size_t>(ry) * n_;
   std::fill_n(logodds_.begin() + first * slices_, static_cast<std::size_t>(n_) * slices_, 0.0F);
   std::fill_n(updated_.begin() + first, n_, -kInf);
+  std::fill_n(extent_.begin() + first, n_, LocalMap::kNoExtent);
 }
 
 void LocalMap::recenter(double x, double y)
@@ -249,6 +256,38 @@ void LocalMap::flagCrossed(std::size_t cell, double z0, double z1, std::size_t s
   }
 }
 
+void LocalMap::growExtent(const MapRay& r)
+{
+  const long lx = static_cast<long>(cellIndex(r.ex)) - ox_;
+  const long ly = static_cast<long>(cellIndex(r.ey)) - oy_;
+  if (lx < 0 || lx >= n_ || ly < 0 || ly >= n_ || r.ez < params_.z_min || r.ez > params_.z_max)
+  {
+    return;
+  }
+  const auto fraction = [this](double v) {
+    const double f = v * inv_res_ - std::floor(v * inv_res_);
+    return static_cast<std::uint8_t>(std::max(0.0, std::min(255.0, std::round(f * 255.0))));
+  };
+  const std::uint8_t fx = fraction(r.ex);
+  const std::uint8_t fy = fraction(r.ey);
+  Extent& e = extent_[slot(static_cast<int>(lx), static_cast<int>(ly))];
+  e = { std::min(e.x0, fx), std::min(e.y0, fy), std::max(e.x1, fx), std::max(e.y1, fy) };
+}
+
+bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const
+{
+  const Extent& e = extent_[cell];
+  if (e.x0 > e.x1)
+  {
+    return true;  // no hit in this cell: every ray through it counts
+  }
+  // The piece of the ray inside the cell, in cell units from its lower left corner, against the box
+  // around the cell's hits grown by the margin.
+  double t0 = 0.0, t1 = dt;
+  return clipSlab(fx, dfx, e.x0 / 255.0 - kExtentMargin, e.x1 / 255.0 + kExtentMargin, t0, t1) &&
+         clipSlab(fy, dfy, e.y0 / 255.0 - kExtentMargin, e.y1 / 255.0 + kExtentMargin, t0, t1);
+}
+
 void LocalMap::traverse(const MapRay& r)
 {
   const double res = params_.resolution;
@@ -288,7 +327,12 @@ void LocalMap::traverse(const MapRay& r)
   for (int guard = 0; guard <= 2 * n_ + 2; ++guard)
   {
     const double t_next = std::min(t1, std::min(next_x, next_y));
-    flagCrossed(slot(ix, iy), r.sz + t * dz, r.sz + t_next * dz, skip);
+    const std::size_t cell = slot(ix, iy);
+    if (passesHits(cell, (px + t * dx) * inv_res_ - ix, (py + t * dy) * inv_res_ - iy, dx * inv_res_,
+                   dy * inv_res_, t_next - t))
+    {
+      flagCrossed(cell, r.sz + t * dz, r.sz + t_next * dz, skip);
+    }
     if (t_next >= t1)
     {
       break;
@@ -341,8 +385,18 @@ void LocalMap::applyBatch(double stamp)
       l = std::max(l - miss, -clamp);
     }
     flags_[v] = 0;
+    forgetExtentIfEmpty(v / slices_);
   }
   touched_count_ = 0;
+}
+
+void LocalMap::forgetExtentIfEmpty(std::size_t cell)
+{
+  const float* l = &logodds_[cell * slices_];
+  if (*std::max_element(l, l + slices_) <= 0.0F)
+  {
+    extent_[cell] = LocalMap::kNoExtent;
+  }
 }
 
 void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
@@ -353,10 +407,21 @@ void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
     invalid_rays_ = rays.size();
     return;
   }
+  const auto finite = [](const MapRay& r) {
+    return std::isfinite(r.sx) && std::isfinite(r.sy) && std::isfinite(r.sz) && std::isfinite(r.ex) &&
+           std::isfinite(r.ey) && std::isfinite(r.ez);
+  };
+  // The hits first, so that every free ray of the cloud meets the same extents.
   for (const MapRay& r : rays)
   {
-    if (!std::isfinite(r.sx) || !std::isfinite(r.sy) || !std::isfinite(r.sz) || !std::isfinite(r.ex) ||
-        !std::isfinite(r.ey) || !std::isfinite(r.ez))
+    if (r.kind == RayKind::Hit && finite(r))
+    {
+      growExtent(r);
+    }
+  }
+  for (const MapRay& r : rays)
+  {
+    if (!finite(r))
     {
       ++invalid_rays_;
       continue;
@@ -366,7 +431,7 @@ void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
   applyBatch(stamp);
 }
 
-void LocalMap::setDisc(double x, double y, double radius, double stamp, float value)
+void LocalMap::setDisc(double x, double y, double radius, double stamp, float value, bool keep_seen)
 {
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(radius) || radius < 0.0 ||
       !std::isfinite(stamp))
@@ -390,8 +455,14 @@ void LocalMap::setDisc(double x, double y, double radius, double stamp, float va
         continue;
       }
       const std::size_t cell = slot(ix - ox_, iy - oy_);
+      const float* l = &logodds_[cell * slices_];
+      if (keep_seen && *std::max_element(l, l + slices_) > 0.0F)
+      {
+        continue;
+      }
       std::fill_n(logodds_.begin() + cell * slices_, slices_, value);
       updated_[cell] = std::max(updated_[cell], stamp);
+      extent_[cell] = value > 0.0F ? LocalMap::kFullExtent : LocalMap::kNoExtent;
     }
   }
 }
@@ -399,6 +470,11 @@ void LocalMap::setDisc(double x, double y, double radius, double stamp, float va
 void LocalMap::markFreeDisc(double x, double y, double radius, double stamp)
 {
   setDisc(x, y, radius, stamp, -static_cast<float>(params_.clamp));
+}
+
+void LocalMap::markFreeDiscExceptSeen(double x, double y, double radius, double stamp)
+{
+  setDisc(x, y, radius, stamp, -static_cast<float>(params_.clamp), true);
 }
 
 void LocalMap::markOccupiedDisc(double x, double y, double radius, double stamp)

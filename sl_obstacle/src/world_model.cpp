@@ -71,9 +71,17 @@ void WorldModel::updatePose(const Pose2D& robot, double now)
     map_.markFreeDisc(robot.x, robot.y, params_.start_free_radius, now);
     started_ = true;
   }
-  // The robot's disc is free, out to the swept radius the path checks use (the lateral margin is
-  // there to keep a distance, not because something could stand in it while the robot is there).
-  map_.markFreeDisc(robot.x, robot.y, params_.footprint.sweptRadius() + 0.5 * params_.map.resolution, now);
+  // Out to the swept radius the trail is free where nothing was seen: the robot only drove where
+  // the path checks found it free. Only cells wholly under the body are certainly free: one that
+  // reaches past it may hold a thin obstacle passed at a few millimetres, and erasing that would
+  // let the next arc in.
+  map_.markFreeDiscExceptSeen(robot.x, robot.y, params_.footprint.sweptRadius() + 0.5 * params_.map.resolution, now);
+  map_.markFreeDisc(robot.x, robot.y, bodyFreeRadius(), now);
+}
+
+double WorldModel::bodyFreeRadius() const
+{
+  return std::max(0.0, params_.footprint.radius - M_SQRT1_2 * params_.map.resolution);
 }
 
 void WorldModel::addRays(const std::vector<MapRay>& rays, double stamp)

@@ -113,6 +113,52 @@ TEST(LocalMap, FreeRaysClearAnObstacleOverSeveralClouds)
   EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Free);  // -0.35
 }
 
+TEST(LocalMap, RaysBesideAThinObstacleInItsCellDoNotEraseIt)
+{
+  // A leg seen once at y = 0.013 in the cell [0.50, 0.52) x [0.00, 0.02); rays then pass through
+  // the same cell 8 mm beside it, cloud after cloud (a turn sweeps them past it): beyond the quarter
+  // cell around the hit, they say nothing about it.
+  MapParams no_decay;
+  no_decay.decay = 1e6;
+  LocalMap map{ no_decay };
+  map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 0.0);
+  ASSERT_EQ(map.state(0.51, 0.01, 0.0), CellState::Occupied);
+  for (int i = 0; i < 30; ++i)
+  {
+    map.insert(bothSlices(0.0F, 1.0F, 0.005F, RayKind::Free), 0.1 * i);
+  }
+  EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.8, 0.01, 3.0), CellState::Free) << "the rest of the rays' path is free";
+  // Rays through the place of the hit erase it (the object moved away), and then the cell has no
+  // hit left: rays anywhere through it count again.
+  for (int i = 0; i < 3; ++i)
+  {
+    map.insert(bothSlices(0.0F, 1.0F, 0.012F, RayKind::Free), 3.0);
+  }
+  EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Free);
+  map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 3.0);
+  map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 3.0);
+  for (int i = 0; i < 4; ++i)  // -0.35 + 2 * 0.85 - 4 * 0.4 = -0.25: unknown, and the hit forgotten
+  {
+    map.insert(bothSlices(0.0F, 1.0F, 0.012F, RayKind::Free), 3.0);
+  }
+  EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Unknown);
+  map.insert(bothSlices(0.0F, 1.0F, 0.002F, RayKind::Free), 3.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Free);
+}
+
+TEST(LocalMap, TheTrailKeepsWhatWasSeenBesideTheBody)
+{
+  LocalMap map{ MapParams() };
+  map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 0.0);
+  map.markFreeDiscExceptSeen(0.51, -0.17, 0.2, 0.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Occupied);
+  EXPECT_EQ(map.state(0.51, -0.17, 0.0), CellState::Free);
+  EXPECT_EQ(map.state(0.51, 0.02, 0.0), CellState::Free) << "unknown cells of the disc are marked";
+  map.markFreeDisc(0.51, -0.17, 0.2, 0.0);
+  EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Free) << "markFreeDisc overrides everything";
+}
+
 TEST(LocalMap, OccupiedWinsOverFreeInOneCloud)
 {
   LocalMap map{ MapParams() };

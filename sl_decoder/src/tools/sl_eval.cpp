@@ -21,7 +21,7 @@ const char* kUsage =
     "  (mm), and the points on objects in front of the background.\n"
     "  --plane DIST   a white plane DIST m from the camera (repeatable; instead of the default scenes)\n"
     "  --albedo A     albedo of those planes (default 0.8)\n"
-    "  --split-merged decode with the near-range detection on (DecoderConfig::split_merged)\n"
+    "  --no-split-merged  decode with the near-range detection off (DecoderConfig::split_merged)\n"
     "  --set N=V      a simulator setting, as in sl_render (repeatable)\n"
     "  --seed N       noise seed of the first frame (default 1000)\n"
     "  Near-range rows (default run): planes at 0.35, 0.40 and 0.45 m, and 0.45 m with\n"
@@ -90,7 +90,7 @@ int main(int argc, char** argv)
   std::vector<std::string> scenes;
   std::vector<double> planes;
   double albedo = 0.8;
-  bool split_merged = false;
+  bool split_merged = sl_decoder::DecoderConfig().split_merged;
   try
   {
     for (int i = 1; i < argc; ++i)
@@ -111,8 +111,8 @@ int main(int argc, char** argv)
         setSetting(settings, next());
       else if (a == "--seed")
         seed = std::stoull(next());
-      else if (a == "--split-merged")
-        split_merged = true;
+      else if (a == "--no-split-merged")
+        split_merged = false;
       else if (a == "--albedo")
       {
         albedo = std::stod(next());

@@ -78,7 +78,7 @@ enum class CellState : std::uint8_t
 /// cells [i * resolution, (i + 1) * resolution); each cell holds `slices` log-odds values for equal
 /// height slices of [z_min, z_max] and the time of its last update. The window is a ring buffer:
 /// recenter() moves it by whole cells without copying, forgetting the cells that leave. All memory
-/// is allocated by the constructor (9 bytes per slice and 8 per cell: 1.0 MB for the defaults'
+/// is allocated by the constructor (9 bytes per slice and 12 per cell: 1.2 MB for the defaults'
 /// 200 x 200 x 2); nothing grows with run time.
 ///
 /// Updates of one insert() call are combined per slice (each slice changes at most once per cloud):
@@ -97,7 +97,9 @@ public:
   void recenter(double x, double y);
 
   /// Inserts one cloud's rays taken at @p stamp (s). Free parts lower the log-odds of every slice
-  /// they cross inside the band (3D traversal: Amanatides-Woo in x-y, z interpolated); Hit ends
+  /// they cross inside the band (3D traversal: Amanatides-Woo in x-y, z interpolated), except in a
+  /// cell that holds hits, where only a ray passing through the box around those hits (grown by a
+  /// quarter cell) counts: a ray beside a thin obstacle in the same cell says nothing about it. Hit ends
   /// inside the band raise their slice by `hit`, Suspect ends by `suspect`; within one batch a
   /// slice changes once: occupied beats suspect beats free where two or more Suspect rays end in
   /// the voxel, and free beats a lone Suspect end. Rays are clipped to the window; rays with a non-finite
@@ -109,6 +111,11 @@ public:
   /// the trail, mark it with at least the swept radius (FootprintParams::sweptRadius()) plus half a
   /// cell. Non-finite input or a negative radius is ignored.
   void markFreeDisc(double x, double y, double radius, double stamp);
+
+  /// As markFreeDisc(), except that cells where some slice holds occupied or suspect evidence
+  /// (log-odds > 0) keep it: the ring just beyond the robot's body along its trail, where a thin
+  /// obstacle it passed at a few millimetres may stand.
+  void markFreeDiscExceptSeen(double x, double y, double radius, double stamp);
 
   /// Marks every slice of the cells whose centre lies within @p radius of (x, y) as certainly
   /// occupied (log-odds +clamp): a bump. Non-finite input or a negative radius is ignored.
@@ -165,8 +172,25 @@ private:
   void flagCrossed(std::size_t cell, double z0, double z1, std::size_t skip_voxel);
   /// Applies the flagged updates of the current batch.
   void applyBatch(double stamp);
-  /// Sets every slice of the cells in the disc to @p value.
-  void setDisc(double x, double y, double radius, double stamp, float value);
+  /// Sets every slice of the cells in the disc to @p value (with @p keep_seen, not in cells where a
+  /// slice is above 0).
+  void setDisc(double x, double y, double radius, double stamp, float value, bool keep_seen = false);
+  /// Grows the hit extent of the cell holding the end of Hit ray @p r (if in the window and band).
+  void growExtent(const MapRay& r);
+  /// True if the piece of a ray inside @p cell (from (fx, fy) in cell units from the cell's lower
+  /// left corner, direction (dfx, dfy) per unit of the ray parameter, for @p dt of it) passes through
+  /// the box around the cell's hits grown by a margin, or if the cell holds no hit.
+  bool passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const;
+  /// Forgets the hit extent of @p cell once no slice holds positive log-odds.
+  void forgetExtentIfEmpty(std::size_t cell);
+
+  /// Where in a cell its hits lay (1/255 of a cell from its lower left corner): the box x0..x1, y0..y1.
+  struct Extent
+  {
+    std::uint8_t x0, y0, x1, y1;
+  };
+  static constexpr Extent kNoExtent = { 255, 255, 0, 0 };  ///< empty box: no hit
+  static constexpr Extent kFullExtent = { 0, 0, 255, 255 };  ///< the whole cell (a bump)
   /// Forgets the ring column (slot x) @p rx or row (slot y) @p ry.
   void clearColumn(int rx);
   void clearRow(int ry);
@@ -182,6 +206,7 @@ private:
   int ring_y_ = 0;
   std::vector<float> logodds_;    // slot * slices + slice
   std::vector<double> updated_;   // per slot: time of the last update (-inf: never)
+  std::vector<Extent> extent_;    // per slot: box around its hits while it holds positive evidence
   // Batch bookkeeping (per voxel = slot * slices + slice); flags_ is all zero between batches.
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> touched_;  // voxels flagged in the current batch (sized for all)

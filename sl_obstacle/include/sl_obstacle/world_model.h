@@ -62,7 +62,7 @@ struct MapSummary
  * @brief Keeps the local map and answers path questions on it.
  *
  * Every cloud is inserted with the robot's pose at the cloud's stamp; every decision is taken at the
- * pose of now. The robot's footprint is free wherever the robot has been (its trail), and the first
+ * pose of now. The cells wholly under the robot's body are free wherever it has been (its trail); the first
  * pose's surroundings (start_free_radius) are taken as free: no camera on the robot can see the ring
  * just around its own body. Turning in place sweeps no new space, so it is always allowed.
  */
@@ -77,7 +77,8 @@ public:
   /// @brief The parameters.
   const WorldParams& params() const { return params_; }
 
-  /// @brief The robot is at @p robot at time @p now: recentres the window and marks its footprint free.
+  /// @brief The robot is at @p robot at time @p now: recentres the window and marks the cells under
+  /// its body free (bodyFreeRadius()).
   void updatePose(const Pose2D& robot, double now);
   /// @brief Inserts the rays of one cloud (odom frame), taken at @p stamp.
   void addRays(const std::vector<MapRay>& rays, double stamp);
@@ -92,6 +93,10 @@ public:
   const LocalMap& map() const { return map_; }
   /// @brief True once a pose was given.
   bool started() const { return started_; }
+  /// @brief Radius (m) within which updatePose() marks cell centres free: the robot's radius less
+  /// half a cell's diagonal, so that only cells wholly under the body are marked (never one that
+  /// reaches past it, where a thin obstacle beside the robot may stand).
+  double bodyFreeRadius() const;
 
 private:
   WorldParams params_;

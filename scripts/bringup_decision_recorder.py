@@ -2,7 +2,7 @@
 """Stands in for create_driver when recorded data is replayed (launch/replay.launch), and records
 what the obstacle node decides.
 
-- Serves the `drive_distance` action (create_driver/DriveDistance) like the driver: a new goal
+- Serves the `drive_distance` action (sl_msgs/DriveDistance) like the driver: a new goal
   pre-empts the running one, a cancel ends it; progress is the distance base_link moved in the
   odometry frame (tf ~odom_frame -> ~base_frame, from the bag), so the obstacle node sees goals
   finish as they did on the robot. Without odometry in the bag, goals run until pre-empted.
@@ -27,8 +27,8 @@ import actionlib
 import rosgraph
 import rospy
 import tf2_ros
-from create_driver.msg import DriveDistanceAction, DriveDistanceFeedback, DriveDistanceResult
 from geometry_msgs.msg import Twist
+from sl_msgs.msg import DriveDistanceAction, DriveDistanceFeedback, DriveDistanceResult
 from sl_obstacle.msg import ObstacleStatus
 from std_srvs.srv import SetBool
 

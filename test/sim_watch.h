@@ -8,10 +8,10 @@
 #include <mutex>
 #include <string>
 
-#include <create_driver/Hazards.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <sl_msgs/Hazards.h>
 #include <sl_obstacle/ObstacleStatus.h>
 #include <std_msgs/UInt8.h>
 
@@ -109,7 +109,7 @@ private:
     contact_bits_ |= msg.data;
   }
 
-  void hazardsCallback(const create_driver::Hazards& msg)
+  void hazardsCallback(const sl_msgs::Hazards& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++hazard_messages_;

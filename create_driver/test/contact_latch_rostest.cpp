@@ -6,7 +6,7 @@
 #include <std_msgs/UInt8.h>
 #include <std_srvs/Trigger.h>
 
-#include <create_driver/DriveDistanceAction.h>
+#include <sl_msgs/DriveDistanceAction.h>
 
 #include "rostest_helpers.h"
 
@@ -37,7 +37,7 @@ TEST(ContactLatch, ContactStopsAndLatchesUntilReset)
     const auto h = sys.hazards.get();
     return h.latched && h.bump_right && sys.wheels() == 0.0;
   })) << "contact did not stop and latch";
-  EXPECT_EQ(sys.hazards.get().latch_reason, create_driver::Hazards::LATCH_BUMPER);
+  EXPECT_EQ(sys.hazards.get().latch_reason, sl_msgs::Hazards::LATCH_BUMPER);
 
   // Contact released: still latched, forward commands still do nothing.
   setContact(contact, 0);
@@ -82,12 +82,12 @@ TEST(ContactLatch, GoalEndsWithBumper)
   ros::NodeHandle nh;
   System sys(nh);
   ros::Publisher contact = nh.advertise<std_msgs::UInt8>("contact", 10, true);
-  actionlib::SimpleActionClient<create_driver::DriveDistanceAction> client("drive_distance", true);
+  actionlib::SimpleActionClient<sl_msgs::DriveDistanceAction> client("drive_distance", true);
   ASSERT_TRUE(sys.waitRunning());
   ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
   ASSERT_TRUE(waitFor([&] { return !sys.hazards.get().latched; }));
   const double x0 = sys.pose.get().pose.position.x;
-  create_driver::DriveDistanceGoal g;
+  sl_msgs::DriveDistanceGoal g;
   g.distance = 1.0;
   g.speed = 0.2;
   client.sendGoal(g);
@@ -95,7 +95,7 @@ TEST(ContactLatch, GoalEndsWithBumper)
   setContact(contact, 3);
   ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::ABORTED);
-  EXPECT_EQ(client.getResult()->reason, create_driver::DriveDistanceResult::BUMPER);
+  EXPECT_EQ(client.getResult()->reason, sl_msgs::DriveDistanceResult::BUMPER);
   EXPECT_TRUE(sys.waitWheelsStopped());
   setContact(contact, 0);
 }

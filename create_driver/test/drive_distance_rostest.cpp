@@ -5,14 +5,14 @@
 
 #include <actionlib/client/simple_action_client.h>
 
-#include <create_driver/DriveDistanceAction.h>
+#include <sl_msgs/DriveDistanceAction.h>
 
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
-using Client = actionlib::SimpleActionClient<create_driver::DriveDistanceAction>;
-using create_driver::DriveDistanceGoal;
-using create_driver::DriveDistanceResult;
+using Client = actionlib::SimpleActionClient<sl_msgs::DriveDistanceAction>;
+using sl_msgs::DriveDistanceGoal;
+using sl_msgs::DriveDistanceResult;
 
 namespace
 {

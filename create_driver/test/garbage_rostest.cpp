@@ -5,7 +5,7 @@
 #include <actionlib/client/simple_action_client.h>
 #include <std_srvs/Trigger.h>
 
-#include <create_driver/DriveDistanceAction.h>
+#include <sl_msgs/DriveDistanceAction.h>
 
 #include "rostest_helpers.h"
 
@@ -44,12 +44,12 @@ TEST(Garbage, CountedAndSurvived)
   EXPECT_EQ(sys.mode.get().link_state, create_driver::Mode::LINK_RUNNING);
 
   // Still drives accurately.
-  actionlib::SimpleActionClient<create_driver::DriveDistanceAction> client("drive_distance", true);
+  actionlib::SimpleActionClient<sl_msgs::DriveDistanceAction> client("drive_distance", true);
   ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
   ASSERT_TRUE(sys.waitWheelsStopped());
   ASSERT_TRUE(sys.pose.waitMore(5));
   const double x0 = sys.pose.get().pose.position.x;
-  create_driver::DriveDistanceGoal g;
+  sl_msgs::DriveDistanceGoal g;
   g.distance = 0.3;
   g.speed = 0.2;
   client.sendGoal(g);

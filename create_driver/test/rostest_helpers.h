@@ -8,13 +8,13 @@
 #include <mutex>
 #include <string>
 
-#include <create_driver/Hazards.h>
 #include <create_driver/Mode.h>
 #include <create_driver/SimStatus.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
+#include <sl_msgs/Hazards.h>
 
 namespace test_helpers
 {
@@ -104,7 +104,7 @@ struct System
   Latest<create_driver::Mode> mode;
   Latest<create_driver::SimStatus> status;
   Latest<geometry_msgs::PoseStamped> pose;
-  Latest<create_driver::Hazards> hazards;
+  Latest<sl_msgs::Hazards> hazards;
   Latest<diagnostic_msgs::DiagnosticArray> diagnostics;
   ros::Publisher cmd_pub;
 };

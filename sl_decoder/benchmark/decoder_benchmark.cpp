@@ -1,11 +1,12 @@
 // Decoder speed on rendered 752 x 480 frames, per stage and in total, on one core; also decode plus
-// the per-ray outcomes (RayClassifier).
+// the per-ray outcomes (RayClassifier), and the decode against one labelling pass (ratio).
 //   rosrun sl_decoder sl_decoder_benchmark --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
 #include <stdexcept>
 #include <string>
 
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <chrono>
 #include <vector>
@@ -69,6 +70,42 @@ void decodeScene(benchmark::State& state, const std::vector<std::string>& parts,
   }
 }
 
+/// The decode of the 700 mm plane against one labelling pass on the same frame, in the same run:
+/// cv::connectedComponents (8-connected, Spaghetti) of its Otsu binarisation. Both are timed in every
+/// iteration, one after the other, so that a noisy machine slows both alike; ratio = decode / label.
+void BM_DecodeVsLabellingPlane700(benchmark::State& state)
+{
+  cv::setNumThreads(1);
+  const sl_projector::Rig rig = sl_projector::loadRig(sl_decoder::defaultRigFile());
+  const sl_camera::Scene scene = sl_camera::loadScene(sl_decoder::findScene({ "plane_700" }));
+  sl_camera::Renderer renderer(rig);
+  sl_decoder::Decoder decoder(rig);
+  sl_camera::RenderOutput frame;
+  renderer.render(scene, decoder.pattern().render(), sl_camera::cameraPoseInWorld(rig), 7, frame);
+  cv::Mat binary, labels;
+  cv::threshold(frame.image, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  sl_decoder::DecodeResult result;
+  decoder.decode(frame.image, result);
+  cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI);
+  double decode_ms = 0.0, label_ms = 0.0;
+  for (auto _ : state)
+  {
+    auto t0 = std::chrono::steady_clock::now();
+    decoder.decode(frame.image, result);
+    benchmark::DoNotOptimize(result.valid);
+    auto t1 = std::chrono::steady_clock::now();
+    const int n = cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI);
+    benchmark::DoNotOptimize(n);
+    auto t2 = std::chrono::steady_clock::now();
+    decode_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    label_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["decode_ms"] = decode_ms / n;
+  state.counters["label_ms"] = label_ms / n;
+  state.counters["ratio"] = decode_ms / label_ms;
+}
+
 void BM_DecodePlane700(benchmark::State& state)
 {
   decodeScene(state, { "plane_700" });
@@ -87,6 +124,7 @@ void BM_DecodeAndRaysRoomView(benchmark::State& state)
 }
 }  // namespace
 
+BENCHMARK(BM_DecodeVsLabellingPlane700)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodePlane700)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeRoomView)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeAndRaysPlane700)->Unit(benchmark::kMillisecond);

@@ -343,18 +343,34 @@ void Decoder::correspond(DecodeResult& result)
     correspondByWords(result);
     return;
   }
-  std::vector<Blob>& blobs = result.blobs;
-  const int cols = rig_.pattern.cols;
-  const bool along_rows = index_->epipolarAlongRows();
+  const std::vector<Blob>& blobs = result.blobs;
   // Discriminating directions lie along the epipolar curves; the others confirm the shape.
-  const uint8_t discriminating = along_rows ? static_cast<uint8_t>((1 << kWest) | (1 << kEast))
-                                            : static_cast<uint8_t>((1 << kNorth) | (1 << kSouth));
+  const uint8_t discriminating = index_->epipolarAlongRows() ? static_cast<uint8_t>((1 << kWest) | (1 << kEast))
+                                                             : static_cast<uint8_t>((1 << kNorth) | (1 << kSouth));
   const uint8_t confirming = static_cast<uint8_t>(0xF & ~discriminating);
-  const float step = static_cast<float>(config_.max_depth_step);
+  countSupport(blobs);
+  label_.assign(blobs.size(), -1);
+  for (size_t i = 0; i < blobs.size(); ++i)
+    label_[i] = bestSupported(static_cast<int>(i), discriminating, confirming);
+  if (words_)
+    labelByWords(blobs);
+  for (int round = 0; round < 16; ++round)
+  {
+    grow_.clear();
+    for (size_t i = 0; i < blobs.size(); ++i)
+      if (label_[i] < 0 && cand_begin_[i] != cand_begin_[i + 1])
+        growByGeometry(blobs, static_cast<int>(i), confirming);
+    if (!applyGrowth())
+      break;
+  }
+  finishLabels(result);
+}
 
-
+void Decoder::countSupport(const std::vector<Blob>& blobs)
+{
   // Support: a neighbour that has the adjacent primitive among its tight candidates, at a similar
-  // depth.
+  // depth. Only a neighbour whose own geometry fits (a tight candidate) lends support.
+  const float step = static_cast<float>(config_.max_depth_step);
   for (size_t i = 0; i < blobs.size(); ++i)
     for (int32_t k = cand_begin_[i]; k < cand_begin_[i + 1]; ++k)
     {
@@ -364,177 +380,141 @@ void Decoder::correspond(DecodeResult& result)
       {
         const int n = blobs[i].neighbour[d];
         const int q = adjacent(c.primitive, d);
-        if (n < 0 || q < 0)
-          continue;
-        // Only a neighbour whose own geometry fits (a tight candidate) lends support.
-        const int kn = findCandidate(n, q);
+        const int kn = n >= 0 && q >= 0 ? findCandidate(n, q) : -1;
         if (kn >= 0 && cands_[static_cast<size_t>(kn)].tight &&
             std::abs(cands_[static_cast<size_t>(kn)].depth - c.depth) <= step * c.depth)
           c.bits |= static_cast<uint8_t>(1 << d);
       }
     }
+}
 
-  // First pass: the candidate that alone has the best support, with enough of it.
-  label_.assign(blobs.size(), -1);
-  for (size_t i = 0; i < blobs.size(); ++i)
+int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const
+{
+  // The candidate that alone has the best support, with enough of it.
+  const int32_t k0 = cand_begin_[static_cast<size_t>(blob)], k1 = cand_begin_[static_cast<size_t>(blob) + 1];
+  if (k0 == k1)
+    return -1;
+  int best = -1, best_support = -1, ties = 0;
+  for (int32_t k = k0; k < k1; ++k)
   {
-    Blob& b = blobs[i];
-    b.row = b.col = -1;
-    b.support = 0;
-    const int32_t k0 = cand_begin_[i], k1 = cand_begin_[i + 1];
-    if (k0 == k1)
-      continue;
-    int best = -1, best_support = -1, ties = 0;
-    for (int32_t k = k0; k < k1; ++k)
+    const int support = popcount4(cands_[static_cast<size_t>(k)].bits);
+    if (support > best_support)
     {
-      const int support = popcount4(cands_[static_cast<size_t>(k)].bits);
-      if (support > best_support)
-      {
-        best_support = support;
-        best = k;
-        ties = 0;
-      }
-      else if (support == best_support)
-        ++ties;
+      best_support = support;
+      best = k;
+      ties = 0;
     }
-    const Candidate& c = cands_[static_cast<size_t>(best)];
-    const bool unique = (k1 - k0) == 1;
-    const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
-    const int discr = popcount4(static_cast<uint8_t>(c.bits & discriminating));
-    if (ties > 0 || confirm < 1 || !c.tight)
-      continue;
-    // A rival only one support short that fits the epipolar geometry about as well (or better) is
-    // not ruled out: a blob's biased centroid or one false witness could make that difference.
-    bool rival = false;
-    for (int32_t k = k0; k < k1 && !rival; ++k)
-    {
-      const Candidate& r = cands_[static_cast<size_t>(k)];
-      rival = k != best && popcount4(r.bits) >= best_support - 1 &&
-              r.epipolar <= c.epipolar + kRivalEpipolarMargin;
-    }
-    if (rival)
-      continue;
-    if (!unique && (discr < 1 || best_support < config_.min_support))
-      continue;
-    if (unique && best_support < std::min(config_.min_support, 2))
-      continue;
-    label_[i] = best;
+    else if (support == best_support)
+      ++ties;
   }
+  const Candidate& c = cands_[static_cast<size_t>(best)];
+  const bool unique = (k1 - k0) == 1;
+  const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
+  const int discr = popcount4(static_cast<uint8_t>(c.bits & discriminating));
+  if (ties > 0 || confirm < 1 || !c.tight)
+    return -1;
+  // A rival only one support short that fits the epipolar geometry about as well (or better) is
+  // not ruled out: a blob's biased centroid or one false witness could make that difference.
+  for (int32_t k = k0; k < k1; ++k)
+  {
+    const Candidate& r = cands_[static_cast<size_t>(k)];
+    if (k != best && popcount4(r.bits) >= best_support - 1 && r.epipolar <= c.epipolar + kRivalEpipolarMargin)
+      return -1;
+  }
+  if (!unique && (discr < 1 || best_support < config_.min_support))
+    return -1;
+  if (unique && best_support < std::min(config_.min_support, 2))
+    return -1;
+  return best;
+}
 
+int Decoder::wordOf(const std::vector<Blob>& blobs, size_t i) const
+{
+  const Blob& b = blobs[i];
+  int shape[4];
+  for (int d = 0; d < 4; ++d)
+  {
+    const int n = b.neighbour[d];
+    shape[d] = n >= 0 ? blobs[static_cast<size_t>(n)].shape : 0;
+    if (shape[d] <= 0)
+      return -1;
+  }
+  const sl_projector::GridPos g = words_->lookup(b.shape, shape[kNorth], shape[kWest], shape[kSouth], shape[kEast]);
+  return g.valid() ? g.row * rig_.pattern.cols + g.col : -1;
+}
+
+void Decoder::labelByWords(const std::vector<Blob>& blobs)
+{
   // The prototype's look-up: a blob whose four neighbours are all identified has a full word
   // (centre, N, W, S, E), which the direct 4^5 table turns into its primitive in O(1). The word
   // decodes a blob the first pass left open when that primitive is one of its tight candidates
   // (on its epipolar curve), is supported by a neighbour's geometry, and no candidate has more
-  // support. Words read across a depth edge are caught by the validation below.
-  if (words_)
-    for (size_t i = 0; i < blobs.size(); ++i)
-    {
-      if (label_[i] >= 0 || cand_begin_[i] == cand_begin_[i + 1])
-        continue;
-      const Blob& b = blobs[i];
-      int shape[4];
-      bool full = true;
-      for (int d = 0; d < 4 && full; ++d)
-      {
-        const int n = b.neighbour[d];
-        shape[d] = n >= 0 ? blobs[static_cast<size_t>(n)].shape : 0;
-        full = shape[d] > 0;
-      }
-      if (!full)
-        continue;
-      const sl_projector::GridPos g = words_->lookup(b.shape, shape[kNorth], shape[kWest], shape[kSouth], shape[kEast]);
-      if (!g.valid())
-        continue;
-      const int k = findCandidate(static_cast<int>(i), g.row * cols + g.col);
-      if (k < 0 || !cands_[static_cast<size_t>(k)].tight)
-        continue;
-      const int support = popcount4(cands_[static_cast<size_t>(k)].bits);
-      bool better = false;
-      for (int32_t j = cand_begin_[i]; j < cand_begin_[i + 1] && !better; ++j)
-        better = j != k && popcount4(cands_[static_cast<size_t>(j)].bits) > support;
-      if (support >= 2 && !better)
-        label_[i] = k;
-    }
+  // support. Words read across a depth edge are caught by the validation (finishLabels()).
+  for (size_t i = 0; i < blobs.size(); ++i)
+  {
+    if (label_[i] >= 0 || cand_begin_[i] == cand_begin_[i + 1])
+      continue;
+    const int p = wordOf(blobs, i);
+    const int k = p >= 0 ? findCandidate(static_cast<int>(i), p) : -1;
+    if (k < 0 || !cands_[static_cast<size_t>(k)].tight)
+      continue;
+    const int support = popcount4(cands_[static_cast<size_t>(k)].bits);
+    bool better = false;
+    for (int32_t j = cand_begin_[i]; j < cand_begin_[i + 1] && !better; ++j)
+      better = j != k && popcount4(cands_[static_cast<size_t>(j)].bits) > support;
+    if (support >= 2 && !better)
+      label_[i] = k;
+  }
+}
 
+void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t confirming)
+{
   // Growth: a blob next to decoded ones takes the primitive they imply, if that is one of its
   // candidates at a continuous depth, its shape is confirmed across the epipolar direction, and no
   // decoded neighbour disagrees. Decodes the pattern's border and blobs with ambiguous support.
-  for (int round = 0; round < 16; ++round)
+  int implied = -1, agreeing = 0;
+  for (int d = 0; d < 4; ++d)
   {
-    grow_.clear();
-    for (size_t i = 0; i < blobs.size(); ++i)
-    {
-      if (label_[i] >= 0 || cand_begin_[i] == cand_begin_[i + 1])
-        continue;
-      int implied = -1, agreeing = 0;
-      bool conflict = false;
-      for (int d = 0; d < 4 && !conflict; ++d)
-      {
-        const int n = blobs[i].neighbour[d];
-        if (n < 0 || label_[static_cast<size_t>(n)] < 0)
-          continue;
-        // b is n's neighbour in the opposite direction.
-        const int p = adjacent(cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive, kOpposite[d]);
-        if (p < 0 || (implied >= 0 && p != implied))
-          conflict = true;
-        else
-        {
-          implied = p;
-          ++agreeing;
-        }
-      }
-      if (conflict || implied < 0)
-        continue;
-      const int k = findCandidate(static_cast<int>(i), implied);
-      if (k < 0)
-        continue;
-      const Candidate& c = cands_[static_cast<size_t>(k)];
-      const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
-      if (!c.tight || popcount4(c.bits) < 2 || (confirm < 1 && agreeing < 2))
-        continue;
-      // Another candidate with at least as much support makes the implication doubtful.
-      bool rival = false;
-      for (int32_t j = cand_begin_[i]; j < cand_begin_[i + 1] && !rival; ++j)
-        rival = j != k && popcount4(cands_[static_cast<size_t>(j)].bits) >= popcount4(c.bits);
-      if (rival)
-        continue;
-      grow_.push_back(static_cast<int32_t>(i));
-      grow_.push_back(k);
-    }
-    if (grow_.empty())
-      break;
-    for (size_t g = 0; g < grow_.size(); g += 2)
-      label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
+    const int n = blobs[static_cast<size_t>(i)].neighbour[d];
+    if (n < 0 || label_[static_cast<size_t>(n)] < 0)
+      continue;
+    // The blob is n's neighbour in the opposite direction.
+    const int p = adjacent(cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive, kOpposite[d]);
+    if (p < 0 || (implied >= 0 && p != implied))
+      return;  // a conflict
+    implied = p;
+    ++agreeing;
   }
+  const int k = implied >= 0 ? findCandidate(i, implied) : -1;
+  if (k < 0)
+    return;
+  const Candidate& c = cands_[static_cast<size_t>(k)];
+  const int confirm = popcount4(static_cast<uint8_t>(c.bits & confirming));
+  if (!c.tight || popcount4(c.bits) < 2 || (confirm < 1 && agreeing < 2))
+    return;
+  // Another candidate with at least as much support makes the implication doubtful.
+  for (int32_t j = cand_begin_[static_cast<size_t>(i)]; j < cand_begin_[static_cast<size_t>(i) + 1]; ++j)
+    if (j != k && popcount4(cands_[static_cast<size_t>(j)].bits) >= popcount4(c.bits))
+      return;
+  grow_.push_back(i);
+  grow_.push_back(k);
+}
 
-  finishLabels(result);
+bool Decoder::applyGrowth()
+{
+  for (size_t g = 0; g < grow_.size(); g += 2)
+    label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
+  return !grow_.empty();
 }
 
 void Decoder::correspondByWords(DecodeResult& result)
 {
   std::vector<Blob>& blobs = result.blobs;
-  const int cols = rig_.pattern.cols;
-  const std::vector<int>& values = pattern_.array().values();
   // The primitive each full word names. A misread shape gives a wrong word, but then the words of
   // its neighbours do not fit around it.
   word_.assign(blobs.size(), -1);
   for (size_t i = 0; i < blobs.size(); ++i)
-  {
-    const Blob& b = blobs[i];
-    int shape[4];
-    bool full = b.shape > 0;
-    for (int d = 0; d < 4 && full; ++d)
-    {
-      const int n = b.neighbour[d];
-      shape[d] = n >= 0 ? blobs[static_cast<size_t>(n)].shape : 0;
-      full = shape[d] > 0;
-    }
-    if (!full)
-      continue;
-    const sl_projector::GridPos g = words_->lookup(b.shape, shape[kNorth], shape[kWest], shape[kSouth], shape[kEast]);
-    if (g.valid())
-      word_[i] = g.row * cols + g.col;
-  }
+    word_[i] = blobs[i].shape > 0 ? wordOf(blobs, i) : -1;
   // A word is taken when at least two neighbours' words name the adjacent primitives and the
   // geometry does not rule it out (one of the blob's candidates, within the loose tolerance).
   label_.assign(blobs.size(), -1);
@@ -557,59 +537,61 @@ void Decoder::correspondByWords(DecodeResult& result)
       label_[i] = k;
     }
   }
-  // Growth to blobs without a full word (the pattern's border, gaps): the primitive the decoded
-  // neighbours agree on, when the blob's shape and every neighbour's shape are the pattern's
-  // there, and either two decoded neighbours or three shapes around confirm it.
   for (int round = 0; round < 16; ++round)
   {
     grow_.clear();
     for (size_t i = 0; i < blobs.size(); ++i)
-    {
-      if (label_[i] >= 0 || blobs[i].shape == 0)
-        continue;
-      int implied = -1;
-      uint8_t agreeing = 0;
-      bool conflict = false;
-      for (int d = 0; d < 4 && !conflict; ++d)
-      {
-        const int n = blobs[i].neighbour[d];
-        if (n < 0 || label_[static_cast<size_t>(n)] < 0)
-          continue;
-        const int q = adjacent(cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive, kOpposite[d]);
-        conflict = q < 0 || (implied >= 0 && q != implied);
-        implied = q;
-        agreeing |= static_cast<uint8_t>(1 << d);
-      }
-      if (conflict || implied < 0 || values[static_cast<size_t>(implied)] != blobs[i].shape)
-        continue;
-      // The shapes around must be the pattern's around the implied primitive (a partial word).
-      int matches = 0, mismatches = 0;
-      for (int d = 0; d < 4; ++d)
-      {
-        const int n = blobs[i].neighbour[d], q = adjacent(implied, d);
-        if (n < 0 || blobs[static_cast<size_t>(n)].shape == 0)
-          continue;
-        if (q >= 0 && values[static_cast<size_t>(q)] == blobs[static_cast<size_t>(n)].shape)
-          ++matches;
-        else
-          ++mismatches;
-      }
-      if (mismatches > 0 || (popcount4(agreeing) < 2 && matches < 3))
-        continue;
-      const int k = findCandidate(static_cast<int>(i), implied);
-      if (k >= 0)
-      {
-        cands_[static_cast<size_t>(k)].bits = agreeing;
-        grow_.push_back(static_cast<int32_t>(i));
-        grow_.push_back(k);
-      }
-    }
-    if (grow_.empty())
+      if (label_[i] < 0 && blobs[i].shape != 0)
+        growByWords(blobs, static_cast<int>(i));
+    if (!applyGrowth())
       break;
-    for (size_t g = 0; g < grow_.size(); g += 2)
-      label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
   }
   finishLabels(result);
+}
+
+void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
+{
+  // Growth to blobs without a full word (the pattern's border, gaps): the primitive the decoded
+  // neighbours agree on, when the blob's shape and every neighbour's shape are the pattern's
+  // there, and either two decoded neighbours or three shapes around confirm it.
+  const std::vector<int>& values = pattern_.array().values();
+  const Blob& b = blobs[static_cast<size_t>(i)];
+  int implied = -1;
+  uint8_t agreeing = 0;
+  for (int d = 0; d < 4; ++d)
+  {
+    const int n = b.neighbour[d];
+    if (n < 0 || label_[static_cast<size_t>(n)] < 0)
+      continue;
+    const int q = adjacent(cands_[static_cast<size_t>(label_[static_cast<size_t>(n)])].primitive, kOpposite[d]);
+    if (q < 0 || (implied >= 0 && q != implied))
+      return;  // a conflict
+    implied = q;
+    agreeing |= static_cast<uint8_t>(1 << d);
+  }
+  if (implied < 0 || values[static_cast<size_t>(implied)] != b.shape)
+    return;
+  // The shapes around must be the pattern's around the implied primitive (a partial word).
+  int matches = 0, mismatches = 0;
+  for (int d = 0; d < 4; ++d)
+  {
+    const int n = b.neighbour[d], q = adjacent(implied, d);
+    if (n < 0 || blobs[static_cast<size_t>(n)].shape == 0)
+      continue;
+    if (q >= 0 && values[static_cast<size_t>(q)] == blobs[static_cast<size_t>(n)].shape)
+      ++matches;
+    else
+      ++mismatches;
+  }
+  if (mismatches > 0 || (popcount4(agreeing) < 2 && matches < 3))
+    return;
+  const int k = findCandidate(i, implied);
+  if (k >= 0)
+  {
+    cands_[static_cast<size_t>(k)].bits = agreeing;
+    grow_.push_back(i);
+    grow_.push_back(k);
+  }
 }
 
 bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const

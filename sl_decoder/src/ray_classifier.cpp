@@ -24,8 +24,6 @@ constexpr float kFloorGap = 0.7f;
 constexpr int kBorderBlocks = 2;        // light-map blocks at the image border whose light is nobody's own
 constexpr float kSupport = 0.03f;       // m: a suspect needs a neighbouring row's decoded or lit end this close
 constexpr int kSupportCols = 2;         // ... in a column at most this far from its own
-constexpr int kGlowSupportCols = 3;     // columns searched for a surface behind a suspect in the glow zone
-constexpr float kGlowChainDepth = 0.08f;  // m: a confirmed glow suspect of a neighbouring row this near in depth
 constexpr float kNearFloor = 0.9f;      // a walk stopped beyond this fraction of the floor depth reached it       // the gaps beside it darker by this fraction of that light
 
 void check(bool ok, const char* field, const std::string& rule)
@@ -159,7 +157,6 @@ void RayClassifier::precompute(const sl_projector::Rig& rig, const DecoderConfig
   floor_light_.assign(static_cast<size_t>(n), 0.f);
   lit_free_.assign(static_cast<size_t>(n), -1);
   unsupported_.assign(static_cast<size_t>(n), 0);
-  near_other_.assign(static_cast<size_t>(n), 0);
   bounds_.reserve(static_cast<size_t>(n) + 16);
 }
 
@@ -568,7 +565,6 @@ void RayClassifier::walk(int index, RayOutcome& out)
   const bool checked = stop == kReachedFloor || ((stop == kHidden || stop == kOther) && near_floor);
   const bool floor =
       floor_light > 0.f && (checked || ((stop == kUndetectable || stop == kEnd) && floor_light >= strong));
-  const bool near_other = stop == kOther && samples_[static_cast<size_t>(k)].z < config_.glow_max_depth;
   if (stop == kLit)
   {
     setOutcome(out, RayState::Lit, index, samples_[static_cast<size_t>(k)].z);
@@ -578,14 +574,6 @@ void RayClassifier::walk(int index, RayOutcome& out)
   {
     setOutcome(out, RayState::Floor, index, p.floor_z);
     out.start = origin_;
-  }
-  else if (near_other)
-  {
-    // In the glow zone defocus blurs shapes and smears light to the border: the light may be this
-    // ray's own. A suspect only if dropUnsupportedSuspects() finds a surface decoded behind it.
-    setOutcome(out, RayState::Lit, index, samples_[static_cast<size_t>(k)].z);
-    lit_free_[static_cast<size_t>(index)] = last_free;
-    near_other_[static_cast<size_t>(index)] = 1;
   }
   else if (last_free >= 0)
   {
@@ -640,7 +628,6 @@ void RayClassifier::classify(const cv::Mat& image, const DecodeResult& result, s
   {
     RayOutcome& o = outcomes[static_cast<size_t>(i)];
     lit_free_[static_cast<size_t>(i)] = -1;
-    near_other_[static_cast<size_t>(i)] = 0;
     if (o.state != RayState::Decoded && o.state != RayState::Floor)
     {
       o = RayOutcome();
@@ -652,70 +639,35 @@ void RayClassifier::classify(const cv::Mat& image, const DecodeResult& result, s
     ++counts_[static_cast<size_t>(o.state)];
 }
 
-bool RayClassifier::confirmed(const std::vector<RayOutcome>& outcomes, int i) const
-{
-  const RayOutcome& o = outcomes[static_cast<size_t>(i)];
-  const int r = i / cols_, c = i % cols_;
-  // Its own light: a neighbouring row's decoded or lit end within kSupport.
-  if (near_other_[static_cast<size_t>(i)] == 0)
-    for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1); rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); cc <= std::min(cols_ - 1, c + kSupportCols); ++cc)
-      {
-        const RayOutcome& q = outcomes[static_cast<size_t>(rr * cols_ + cc)];
-        if ((q.state == RayState::Lit || q.state == RayState::Decoded) &&
-            (q.end - o.end).squaredNorm() <= kSupport * kSupport)
-          return true;
-      }
-  // Near the camera (glow_max_depth) defocus smears a surface's pattern into a glow that the walk
-  // meets before the surface itself (and blurs shapes, so light of another shape may be its own):
-  // a surface decoded just behind, in the glow zone, confirms it.
-  const float glow_depth = static_cast<float>(config_.glow_max_depth);
-  if (!(o.depth < glow_depth))
-    return false;
-  for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1); ++rr)
-    for (int cc = std::max(0, c - kGlowSupportCols); cc <= std::min(cols_ - 1, c + kGlowSupportCols); ++cc)
-    {
-      const RayOutcome& q = outcomes[static_cast<size_t>(rr * cols_ + cc)];
-      if (q.state == RayState::Decoded && q.depth >= o.depth - kSupport && q.depth <= glow_depth)
-        return true;
-    }
-  return false;
-}
-
 void RayClassifier::dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes)
 {
   // A surface returns the pattern of several rows. Unexplained light that ends a ray as a suspect
   // (the pattern's edge cut by the image border, the dim rows stretched on the floor at the foot
   // of a wall) is another primitive's light as often as not, and crosses the segments of one
-  // pattern row at a different depth for each column: a suspect that nothing confirms
-  // (confirmed()) ends the free part there instead.
-  for (int i = 0; i < rows_ * cols_; ++i)
-    unsupported_[static_cast<size_t>(i)] =
-        outcomes[static_cast<size_t>(i)].state == RayState::Lit && !confirmed(outcomes, i);
-  // In the glow zone, where few primitives decode, a confirmed suspect of a neighbouring row at
-  // about the same depth also confirms one (one step: unconfirmed suspects never confirm each other).
-  const float glow_depth = static_cast<float>(config_.glow_max_depth);
+  // pattern row at a different depth for each column: a suspect that no primitive of a
+  // neighbouring row confirms (decoded or lit within kSupport) ends the free part there instead.
+  const float support2 = kSupport * kSupport;
   for (int i = 0; i < rows_ * cols_; ++i)
   {
     const RayOutcome& o = outcomes[static_cast<size_t>(i)];
-    if (!unsupported_[static_cast<size_t>(i)] || !(o.depth < glow_depth))
-      continue;
+    bool supported = o.state != RayState::Lit;
     const int r = i / cols_, c = i % cols_;
-    for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1) && unsupported_[static_cast<size_t>(i)]; rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); cc <= std::min(cols_ - 1, c + kSupportCols); ++cc)
+    for (int rr = r - 1; rr <= r + 1 && !supported; rr += 2)
+      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
+           ++cc)
       {
-        const size_t j = static_cast<size_t>(rr * cols_ + cc);
-        if (outcomes[j].state == RayState::Lit && unsupported_[j] == 0 &&
-            std::fabs(outcomes[j].depth - o.depth) <= kGlowChainDepth)
+        const RayOutcome& q = outcomes[static_cast<size_t>(rr * cols_ + cc)];
+        if ((q.state == RayState::Lit || q.state == RayState::Decoded) && (q.end - o.end).squaredNorm() <= support2)
         {
-          unsupported_[static_cast<size_t>(i)] = 2;  // confirmed in this pass; not a source for others
+          supported = true;
           break;
         }
       }
+    unsupported_[static_cast<size_t>(i)] = !supported;
   }
   for (int i = 0; i < rows_ * cols_; ++i)
   {
-    if (unsupported_[static_cast<size_t>(i)] != 1)
+    if (!unsupported_[static_cast<size_t>(i)])
       continue;
     RayOutcome& o = outcomes[static_cast<size_t>(i)];
     const int32_t last_free = lit_free_[static_cast<size_t>(i)];

@@ -222,45 +222,6 @@ TEST(RayClassifier, PlaneAt25cmIsLitNeverDark)
   }
 }
 
-/// Dark rays whose free part ends inside the image (not where the segment leaves the view).
-int darkInView(const Frame& f)
-{
-  const sl_projector::PinholeModel& camera = setup().rig.camera;
-  int n = 0;
-  for (const RayOutcome& o : f.rays)
-  {
-    if (o.state != RayState::Dark)
-      continue;
-    const Eigen::Vector2d px = camera.project(o.end.cast<double>());
-    n += px.x() >= 12.0 && px.y() >= 12.0 && px.x() < camera.width - 12.0 && px.y() < camera.height - 12.0;
-  }
-  return n;
-}
-
-TEST(RayClassifier, PlanesWhereTheRobotStopsAreNeverDark)
-{
-  // Where the robot stops (the camera 0.30 to 0.48 m from an obstacle) the pattern is blurred and
-  // partly merged: every primitive not decoded there must still report the light (lit), never dark
-  // (except where its segment leaves the image first). Planes head-on and turned, albedo down to
-  // 0.15 (min_albedo is 0.1).
-  for (const double depth : { 0.30, 0.33, 0.35, 0.38, 0.40, 0.43, 0.45, 0.48 })
-  {
-    for (const double albedo : { 0.8, 0.35, 0.15 })
-    {
-      const double yaw = albedo < 0.5 ? 0.2 : 0.0;
-      const sl_camera::Scene scene = planeScene(depth, albedo, false, yaw, 0.0, 0.03);
-      Frame f;
-      for (uint64_t seed = 3; seed <= 4; ++seed)
-      {
-        classify(scene, seed, f);
-        EXPECT_EQ(darkInView(f), 0) << "plane " << depth << " m, albedo " << albedo << ", seed " << seed << ": "
-                                    << countsText(f);
-        EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "near plane"), 0) << depth << " " << albedo << " " << seed;
-      }
-    }
-  }
-}
-
 TEST(RayClassifier, FloorOnlySceneGivesFloorOnTheLowerRows)
 {
   // The lower rows: floor hits nearer than 0.8 m (rows 14 and 15 of the default rig). Farther the

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sl_projector/dlp_pico.h"
+#include "device/dlp_pico.h"
 
 using namespace sl_projector;
 

@@ -20,14 +20,21 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include "create_driver/DriveDistanceAction.h"
-#include "create_driver/Hazards.h"
+#include <sl_msgs/DriveDistanceAction.h>
+#include <sl_msgs/Hazards.h>
+
 #include "create_driver/Mode.h"
 #include "create_driver/driver_core.h"
 #include "create_driver/serial_link.h"
 
 namespace create_driver
 {
+// The drive_distance action and the hazards message are shared with their users (sl_msgs).
+using sl_msgs::DriveDistanceAction;
+using sl_msgs::DriveDistanceFeedback;
+using sl_msgs::DriveDistanceResult;
+using sl_msgs::Hazards;
+
 static_assert(DriveDistanceResult::REACHED == static_cast<uint8_t>(StopReason::REACHED), "result constants");
 static_assert(DriveDistanceResult::PREEMPTED == static_cast<uint8_t>(StopReason::PREEMPTED), "result constants");
 static_assert(DriveDistanceResult::BUMPER == static_cast<uint8_t>(StopReason::BUMPER), "result constants");

@@ -1,6 +1,7 @@
 // The simulated camera: renders what the rig's camera sees of a scene lit by the projector's pattern,
 // from the simulated robot's pose (tf), and tells the simulated robot when its bumpers touch an
 // obstacle. All image formation lives in the ROS-free core (sl_camera/renderer.h).
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -225,9 +226,11 @@ private:
     pattern_ = frame;
   }
 
-  /// Robot (base footprint) and camera optical frame in the world, from tf or the static default.
-  void poses(Eigen::Isometry3d& robot_in_world, Eigen::Isometry3d& camera_in_world)
+  /// Robot (base footprint) and camera optical frame in the world, from tf or the static default;
+  /// @p pose_stamp is the time of the robot's pose (zero for the default).
+  void poses(Eigen::Isometry3d& robot_in_world, Eigen::Isometry3d& camera_in_world, ros::Time& pose_stamp)
   {
+    pose_stamp = ros::Time();
     // Default: platform_edge at the world origin, so the robot's centre is robot_radius behind it.
     robot_in_world = translationX(-p_.contact.robot_radius);
     Eigen::Isometry3d camera_in_base =
@@ -237,8 +240,10 @@ private:
       std::string missing;
       try
       {
-        robot_in_world =
-            tf2::transformToEigen(tf_buffer_->lookupTransform(p_.world_frame, p_.robot_frame, ros::Time(0)));
+        const geometry_msgs::TransformStamped robot =
+            tf_buffer_->lookupTransform(p_.world_frame, p_.robot_frame, ros::Time(0));
+        robot_in_world = tf2::transformToEigen(robot);
+        pose_stamp = robot.header.stamp;
       }
       catch (const tf2::TransformException& e)
       {
@@ -262,10 +267,24 @@ private:
     camera_in_world = robot_in_world * camera_in_base;
   }
 
+  /// The moment the image shows: the time of the robot pose it is rendered from (so that a
+  /// consumer's tf lookup at the stamp finds the pose of the exposure), or now when that pose is
+  /// missing, stale (> 0.2 s) or not newer than the last frame's stamp.
+  ros::Time exposureStamp(const ros::Time& pose_stamp)
+  {
+    const ros::Time now = ros::Time::now();
+    ros::Time stamp = now;
+    if (!pose_stamp.isZero() && pose_stamp <= now && (now - pose_stamp).toSec() <= 0.2 && pose_stamp > last_stamp_)
+      stamp = pose_stamp;
+    last_stamp_ = std::max(last_stamp_, stamp);
+    return stamp;
+  }
+
   void onTimer(const ros::TimerEvent&)
   {
     Eigen::Isometry3d robot_in_world, camera_in_world;
-    poses(robot_in_world, camera_in_world);
+    ros::Time pose_stamp;
+    poses(robot_in_world, camera_in_world, pose_stamp);
 
     std_msgs::UInt8 contact;
     contact.data = computeContact(p_.scene, robot_in_world, p_.contact);
@@ -280,7 +299,7 @@ private:
       NODELET_WARN_THROTTLE(10.0, "no pattern received yet on %s: not rendering", pattern_sub_.getTopic().c_str());
       return;
     }
-    const ros::Time stamp = ros::Time::now();
+    const ros::Time stamp = exposureStamp(pose_stamp);
     try
     {
       // A different noise seed every frame, the same sequence for the same ~seed.
@@ -327,6 +346,7 @@ private:
   sensor_msgs::CameraInfo info_;
   cv::Mat pattern_;
   uint64_t frame_count_ = 0;
+  ros::Time last_stamp_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<image_transport::ImageTransport> it_;

@@ -114,8 +114,25 @@ private:
   void placeBandCell(Blob& b) const;
   void findCandidates(DecodeResult& result);
   void findNeighbours(DecodeResult& result);
+  /// Step 6 (geometry first): support, the best supported candidate, full words, growth.
   void correspond(DecodeResult& result);
+  /// Sets every candidate's support bits: the neighbours that have the adjacent primitive among
+  /// their tight candidates at a similar depth.
+  void countSupport(const std::vector<Blob>& blobs);
+  /// The candidate of @p blob that alone has the best support, with enough of it, or -1.
+  int bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const;
+  /// Decodes by full words the blobs the first pass left open (words_ must exist).
+  void labelByWords(const std::vector<Blob>& blobs);
+  /// Queues in grow_ the primitive the decoded neighbours of blob @p i imply, if its geometry fits.
+  void growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t confirming);
+  /// Step 6 for DecoderConfig::identify_by_words: full words confirmed by neighbours, then growth.
   void correspondByWords(DecodeResult& result);
+  /// Queues in grow_ the primitive the decoded neighbours of blob @p i imply, if the shapes fit.
+  void growByWords(const std::vector<Blob>& blobs, int i);
+  /// The primitive the full word of blob @p i (its shape and its four neighbours') names, or -1.
+  int wordOf(const std::vector<Blob>& blobs, size_t i) const;
+  /// Applies the (blob, candidate) pairs of grow_ to label_; false when there were none.
+  bool applyGrowth();
   /// Undoes labels contradicted by their decoded neighbours and primitives claimed twice, then
   /// writes the rest into the blobs.
   void finishLabels(DecodeResult& result);

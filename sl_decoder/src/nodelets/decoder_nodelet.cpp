@@ -17,6 +17,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <boost/make_shared.hpp>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -38,7 +39,7 @@ struct NodeParams
   std::string calibration_file;
   std::string target_frame = "platform_edge";
   std::string camera_frame;  // empty: the image's frame_id
-  double tf_timeout = 0.05;
+  double tf_timeout = 0.0;
   bool organized = false;
   int queue_size = 2;
   bool rays = false;  // classify the rays even when nobody subscribes ray_ends
@@ -304,7 +305,9 @@ private:
   }
 
   /// The camera -> target_frame transform at the image time; false (with a throttled warning) when
-  /// there is none: then nothing is published rather than wrong points.
+  /// there is none: then nothing is published rather than wrong points. Never waits unless
+  /// ~tf_timeout > 0: when the transform at the image time is not there yet, the newest one is used
+  /// (exact for the static mount; for a moving target frame its age is in the diagnostics).
   bool lookupTarget(const std_msgs::Header& image_header, Eigen::Isometry3d& to_target)
   {
     const std::string source = params_.camera_frame.empty() ? image_header.frame_id : params_.camera_frame;
@@ -315,13 +318,23 @@ private:
     }
     try
     {
-      to_target = tf2::transformToEigen(tf_buffer_->lookupTransform(params_.target_frame, source, image_header.stamp,
-                                                                     ros::Duration(params_.tf_timeout)));
+      if (params_.tf_timeout > 0.0 || tf_buffer_->canTransform(params_.target_frame, source, image_header.stamp))
+        to_target = tf2::transformToEigen(tf_buffer_->lookupTransform(params_.target_frame, source,
+                                                                       image_header.stamp,
+                                                                       ros::Duration(params_.tf_timeout)));
+      else
+      {
+        const geometry_msgs::TransformStamped t =
+            tf_buffer_->lookupTransform(params_.target_frame, source, ros::Time(0));
+        to_target = tf2::transformToEigen(t);
+        ++tf_latest_;
+        tf_age_ = t.header.stamp.isZero() ? 0.0 : (image_header.stamp - t.header.stamp).toSec();
+      }
     }
     catch (const tf2::TransformException& e)
     {
       ++tf_failures_;
-      NODELET_WARN_THROTTLE(5.0, "no transform %s -> %s at the image time, no points published: %s", source.c_str(),
+      NODELET_WARN_THROTTLE(5.0, "no transform %s -> %s, no points published: %s", source.c_str(),
                             params_.target_frame.c_str(), e.what());
       return false;
     }
@@ -331,7 +344,9 @@ private:
   void publishCloud(const std_msgs::Header& image_header, const DecodeResult& result,
                     const Eigen::Isometry3d& to_target)
   {
-    sensor_msgs::PointCloud2 cloud;
+    // Published by pointer: nodelets in the same manager receive it without a copy.
+    const sensor_msgs::PointCloud2Ptr cloud_ptr = boost::make_shared<sensor_msgs::PointCloud2>();
+    sensor_msgs::PointCloud2& cloud = *cloud_ptr;
     cloud.header.stamp = image_header.stamp;
     cloud.header.frame_id = params_.target_frame;
     sensor_msgs::PointCloud2Modifier modifier(cloud);
@@ -396,13 +411,15 @@ private:
       si[1] = static_cast<float>(centre.y());
       si[2] = static_cast<float>(centre.z());
     }
-    points_pub_.publish(cloud);
+    points_pub_.publish(cloud_ptr);
   }
 
   /// ray_ends: one point per primitive that was not decoded (floor, dark, lit, unseen), see the README.
   void publishRays(const std_msgs::Header& image_header, const Eigen::Isometry3d& to_target)
   {
-    sensor_msgs::PointCloud2 cloud;
+    // Published by pointer: nodelets in the same manager receive it without a copy.
+    const sensor_msgs::PointCloud2Ptr cloud_ptr = boost::make_shared<sensor_msgs::PointCloud2>();
+    sensor_msgs::PointCloud2& cloud = *cloud_ptr;
     cloud.header.stamp = image_header.stamp;
     cloud.header.frame_id = params_.target_frame;
     // Explicit offsets keep the uint16 fields aligned: 6 floats, state at 24, row at 26, col at 28.
@@ -447,7 +464,7 @@ private:
       std::memcpy(out + 26, rc, sizeof(rc));
       out += cloud.point_step;
     }
-    rays_pub_.publish(cloud);
+    rays_pub_.publish(cloud_ptr);
   }
 
   void publishDepth(const std_msgs::Header& header, const DecodeResult& result)
@@ -508,6 +525,8 @@ private:
     status.add("processing time (ms)", last_ms_);
     status.add("rejected images", rejected_);
     status.add("tf failures", tf_failures_);
+    status.add("tf newest used (not yet at the image time)", tf_latest_);
+    status.add("tf age of the newest used, s", tf_age_);
     for (int k = 1; k < kRayStates; ++k)  // the ray outcomes of the last classified frame
       status.add(std::string("rays ") + toString(static_cast<RayState>(k)), last_rays_[static_cast<size_t>(k)]);
   }
@@ -534,7 +553,8 @@ private:
   int last_blobs_ = 0, last_decoded_ = 0, last_valid_ = 0;
   std::array<int, kRayStates> last_rays_{};
   double last_ms_ = 0.0;
-  long frames_ = 0, rejected_ = 0, tf_failures_ = 0;
+  long frames_ = 0, rejected_ = 0, tf_failures_ = 0, tf_latest_ = 0;
+  double tf_age_ = 0.0;
   bool warned_conversion_ = false;
 };
 

@@ -4,10 +4,10 @@
 // Subscribes `points` (through a tf2 message filter into ~target_frame) for the immediate stop
 // check and, with ~use_map, `ray_ends` (through a filter into ~odom_frame) and `hazards` for the
 // local map (WorldModel); decides at the robot's current odometry pose. Publishes `obstacle_status`,
-// `markers` and `local_map`, commands the robot through create_driver's `drive_distance` action
-// and/or `cmd_vel`. With the map, commands on `cmd_vel_in` (`cmd_vel_in_stamped`) pass through the
-// SafetyFilter: always in command_mode filter, otherwise for ~teleop_hold after each one (taking
-// over from autonomy). All callbacks share one mutex; nothing blocks in onInit.
+// `markers` and `local_map`, commands the robot through the driver's `drive_distance` action
+// (sl_msgs) and/or `cmd_vel`. With the map, commands on `cmd_vel_in` (`cmd_vel_in_stamped`) pass
+// through the SafetyFilter: always in command_mode filter, otherwise for ~teleop_hold after each one
+// (taking over from autonomy). All callbacks share one mutex; nothing blocks in onInit.
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -29,9 +29,9 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include <create_driver/DriveDistanceAction.h>
-#include <create_driver/Hazards.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <sl_msgs/DriveDistanceAction.h>
+#include <sl_msgs/Hazards.h>
 #include <tf2/utils.h>
 
 #include "cloud_conversion.h"
@@ -54,14 +54,17 @@ public:
 
 private:
   using Cloud = sensor_msgs::PointCloud2;
-  using Client = actionlib::SimpleActionClient<create_driver::DriveDistanceAction>;
+  using Client = actionlib::SimpleActionClient<sl_msgs::DriveDistanceAction>;
 
   void onInit() override;
   void onCloud(const Cloud::ConstPtr& cloud);
   void processCloud(const Cloud::ConstPtr& cloud);
   void onFilterFailure(const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason);
   void onRays(const Cloud::ConstPtr& cloud);
-  void onHazards(const create_driver::Hazards& msg);
+  /// Inserts the rays of one image into the map: @p rays (ray_ends) and, when not null, the decoded
+  /// @p points of the same image (the rays that reached a surface).
+  void insertRays(const Cloud::ConstPtr& rays, const Cloud::ConstPtr& points);
+  void onHazards(const sl_msgs::Hazards& msg);
   void onCommand(const geometry_msgs::Twist& msg);
   void onStampedCommand(const geometry_msgs::TwistStamped& msg);
   /// A command from cmd_vel_in given at @p stamp: takes over from autonomy (teleop_hold), filters.
@@ -99,6 +102,7 @@ private:
   std::vector<Point> points_;
   std::unique_ptr<WorldModel> world_;  // null without ~use_map
   Cloud::ConstPtr last_points_;        // the latest decoded points, for the map's Hit rays
+  Cloud::ConstPtr pending_rays_;       // ray ends that came before the points of their image
   double cloud_contact_ = 0.0;         // the latest cloud's obstacle: travel until the disc touches it
   std::vector<MapRay> rays_;
   Pose2D pose_;
@@ -344,6 +348,13 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   {
     publishMarkers(cloud->header.stamp);
   }
+  // After the stop decision: ray ends of this image that came first go into the map now.
+  if (pending_rays_ && pending_rays_->header.stamp <= cloud->header.stamp)
+  {
+    const Cloud::ConstPtr rays = pending_rays_;
+    pending_rays_.reset();
+    insertRays(rays, rays->header.stamp == cloud->header.stamp ? cloud : Cloud::ConstPtr());
+  }
 }
 
 void ObstacleNodelet::onRays(const Cloud::ConstPtr& cloud)
@@ -354,10 +365,25 @@ void ObstacleNodelet::onRays(const Cloud::ConstPtr& cloud)
     NODELET_WARN_THROTTLE(2.0, "refusing a ray cloud without a stamp (header.stamp 0)");
     return;
   }
+  // The decoded points of the same image carry the rays that reached a surface. They come on
+  // another topic and may arrive later (another connection, the points' own processing): then the
+  // ray ends wait for them, one image at most.
+  if (!last_points_ || last_points_->header.stamp < cloud->header.stamp)
+  {
+    if (pending_rays_)
+      insertRays(pending_rays_, Cloud::ConstPtr());  // its points never came (gated, dropped)
+    pending_rays_ = cloud;
+    return;
+  }
+  insertRays(cloud, last_points_->header.stamp == cloud->header.stamp ? last_points_ : Cloud::ConstPtr());
+}
+
+void ObstacleNodelet::insertRays(const Cloud::ConstPtr& rays, const Cloud::ConstPtr& points)
+{
   geometry_msgs::Transform to_odom;
   try
   {
-    to_odom = tf_buffer_->lookupTransform(params_.odom_frame, cloud->header.frame_id, cloud->header.stamp).transform;
+    to_odom = tf_buffer_->lookupTransform(params_.odom_frame, rays->header.frame_id, rays->header.stamp).transform;
   }
   catch (const tf2::TransformException& e)
   {
@@ -365,23 +391,21 @@ void ObstacleNodelet::onRays(const Cloud::ConstPtr& cloud)
     return;
   }
   rays_.clear();
-  std::string e = appendRays(*cloud, to_odom, true, rays_);
+  std::string e = appendRays(*rays, to_odom, true, rays_);
   if (!e.empty())
   {
-    NODELET_ERROR_THROTTLE(2.0, "dropping ray cloud in frame '%s': %s", cloud->header.frame_id.c_str(), e.c_str());
+    NODELET_ERROR_THROTTLE(2.0, "dropping ray cloud in frame '%s': %s", rays->header.frame_id.c_str(), e.c_str());
     return;
   }
-  // The decoded points of the same image carry the rays that reached a surface.
-  if (last_points_ && last_points_->header.stamp == cloud->header.stamp &&
-      last_points_->header.frame_id == cloud->header.frame_id &&
-      !(e = appendRays(*last_points_, to_odom, false, rays_)).empty())
+  if (points && points->header.frame_id == rays->header.frame_id &&
+      !(e = appendRays(*points, to_odom, false, rays_)).empty())
   {
     NODELET_WARN_THROTTLE(10.0, "points cloud adds no rays to the map: %s", e.c_str());
   }
-  world_->addRays(rays_, cloud->header.stamp.toSec());
+  world_->addRays(rays_, rays->header.stamp.toSec());
 }
 
-void ObstacleNodelet::onHazards(const create_driver::Hazards& msg)
+void ObstacleNodelet::onHazards(const sl_msgs::Hazards& msg)
 {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   const bool bump = msg.bump_left || msg.bump_right;
@@ -690,7 +714,7 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
   {
     return;
   }
-  create_driver::DriveDistanceGoal goal;
+  sl_msgs::DriveDistanceGoal goal;
   goal.distance = distance;
   goal.speed = speed;
   const unsigned seq = ++goal_seq_;
@@ -699,7 +723,7 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
   goal_speed_ = speed;
   client_->sendGoal(
       goal,
-      [this, seq](const actionlib::SimpleClientGoalState& state, const create_driver::DriveDistanceResultConstPtr& r) {
+      [this, seq](const actionlib::SimpleClientGoalState& state, const sl_msgs::DriveDistanceResultConstPtr& r) {
         std::lock_guard<std::recursive_mutex> lock(mutex_);
         if (seq != goal_seq_ || !goal_active_)
         {
@@ -710,7 +734,7 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
         std::string what = "goal ended in state " + state.toString();
         if (r)
         {
-          using R = create_driver::DriveDistanceResult;
+          using R = sl_msgs::DriveDistanceResult;
           switch (r->reason)
           {
             case R::REACHED: end = GoalEnd::REACHED; what = "reached"; break;
@@ -737,7 +761,7 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
         decide(now);
       },
       Client::SimpleActiveCallback(),
-      [this, seq](const create_driver::DriveDistanceFeedbackConstPtr& feedback) {
+      [this, seq](const sl_msgs::DriveDistanceFeedbackConstPtr& feedback) {
         std::lock_guard<std::recursive_mutex> lock(mutex_);
         if (seq == goal_seq_ && goal_active_)
         {

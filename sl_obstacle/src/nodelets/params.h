@@ -14,7 +14,7 @@ namespace sl_obstacle
 /// How forward motion is commanded.
 enum class CommandMode
 {
-  ACTION,  ///< drive_distance goals (create_driver/DriveDistance); turns via cmd_vel
+  ACTION,  ///< drive_distance goals (sl_msgs/DriveDistance); turns via cmd_vel
   CMD_VEL, ///< cmd_vel only (forward goals run open loop)
   FILTER   ///< no autonomy: cmd_vel_in passed through the safety filter to cmd_vel
 };

@@ -1,5 +1,6 @@
 // The projector nodelet: publishes the pattern (latched) and, on the robot, shows it full screen and
-// sets up the DLP Pico. All logic lives in the sl_projector core library.
+// sets up the DLP Pico. The pattern logic lives in the sl_projector core library, the window and the
+// I2C set-up in the package's private device library (src/device/).
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -12,9 +13,9 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
-#include "sl_projector/dlp_pico.h"
+#include "device/dlp_pico.h"
+#include "device/projector_window.h"
 #include "sl_projector/pattern.h"
-#include "sl_projector/projector_window.h"
 #include "sl_projector/rig.h"
 
 namespace sl_projector

@@ -7,8 +7,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "device/dlp_pico.h"
 #include "sl_projector/de_bruijn.h"
-#include "sl_projector/dlp_pico.h"
 #include "sl_projector/pattern.h"
 
 namespace

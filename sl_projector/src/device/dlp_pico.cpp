@@ -1,4 +1,4 @@
-#include "sl_projector/dlp_pico.h"
+#include "device/dlp_pico.h"
 
 #include <cerrno>
 #include <cstdio>

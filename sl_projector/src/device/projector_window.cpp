@@ -1,4 +1,4 @@
-#include "sl_projector/projector_window.h"
+#include "device/projector_window.h"
 
 #include <cstdlib>
 #include <cstring>

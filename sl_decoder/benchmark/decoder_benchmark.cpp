@@ -18,15 +18,23 @@ namespace
 {
 /// Decodes a rendered frame of the scene per iteration; with @p rays also classifies every
 /// primitive's ray (RayClassifier), the cost of the nodelet's `ray_ends`.
+/// The frame of the scene found by @p parts, rendered with @p decoder's pattern (noise seed 7).
+sl_camera::RenderOutput renderScene(const sl_projector::Rig& rig, const sl_decoder::Decoder& decoder,
+                                    const std::vector<std::string>& parts)
+{
+  const sl_camera::Scene scene = sl_camera::loadScene(sl_decoder::findScene(parts));
+  sl_camera::Renderer renderer(rig);
+  sl_camera::RenderOutput frame;
+  renderer.render(scene, decoder.pattern().render(), sl_camera::cameraPoseInWorld(rig), 7, frame);
+  return frame;
+}
+
 void decodeScene(benchmark::State& state, const std::vector<std::string>& parts, bool rays = false)
 {
   cv::setNumThreads(1);
   const sl_projector::Rig rig = sl_projector::loadRig(sl_decoder::defaultRigFile());
-  const sl_camera::Scene scene = sl_camera::loadScene(sl_decoder::findScene(parts));
-  sl_camera::Renderer renderer(rig);
   sl_decoder::Decoder decoder(rig);
-  sl_camera::RenderOutput frame;
-  renderer.render(scene, decoder.pattern().render(), sl_camera::cameraPoseInWorld(rig), 7, frame);
+  const sl_camera::RenderOutput frame = renderScene(rig, decoder, parts);
   sl_decoder::DecodeResult result;
   sl_decoder::RayClassifier classifier(rig, decoder.config(), sl_decoder::RayConfig());
   std::vector<sl_decoder::RayOutcome> outcomes;
@@ -77,11 +85,8 @@ void BM_DecodeVsLabellingPlane700(benchmark::State& state)
 {
   cv::setNumThreads(1);
   const sl_projector::Rig rig = sl_projector::loadRig(sl_decoder::defaultRigFile());
-  const sl_camera::Scene scene = sl_camera::loadScene(sl_decoder::findScene({ "plane_700" }));
-  sl_camera::Renderer renderer(rig);
   sl_decoder::Decoder decoder(rig);
-  sl_camera::RenderOutput frame;
-  renderer.render(scene, decoder.pattern().render(), sl_camera::cameraPoseInWorld(rig), 7, frame);
+  const sl_camera::RenderOutput frame = renderScene(rig, decoder, { "plane_700" });
   cv::Mat binary, labels;
   cv::threshold(frame.image, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
   sl_decoder::DecodeResult result;

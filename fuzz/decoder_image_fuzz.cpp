@@ -8,6 +8,7 @@
 //   -1..1, gain 0..510, background 0..255); else from the background level. bit 1: add noise.
 // Besides the sanitizers it checks the result's bookkeeping: counts, valid points within the
 // depth range, one outcome per primitive whose decoded blobs exist.
+// SL_FUZZ_DUMP=<file.pgm> writes the image an input makes (to look at a finding).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -150,6 +151,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         uint8_t& p = f.image.at<uint8_t>(v, u);
         p = static_cast<uint8_t>(std::min(255, std::max(0, p + static_cast<int>(lcg.next() % 9) - 4)));
       }
+  }
+  if (const char* dump = std::getenv("SL_FUZZ_DUMP"))  // the image an input makes, as a PGM
+  {
+    if (FILE* out = std::fopen(dump, "wb"))
+    {
+      std::fprintf(out, "P5\n%d %d\n255\n", f.image.cols, f.image.rows);
+      for (int v = 0; v < f.image.rows; ++v)
+        std::fwrite(f.image.ptr<uint8_t>(v), 1, static_cast<size_t>(f.image.cols), out);
+      std::fclose(out);
+    }
   }
   f.decoder->decode(f.image, f.result);
   f.rays->classify(f.image, f.result, f.outcomes);

@@ -97,6 +97,7 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
   CV_Assert(image.type() == CV_8UC1);
   blobs.clear();
   runs_.clear();
+  split_pixels_ = 0;
   if (image.empty())
     return;
   const int w = image.cols, h = image.rows;
@@ -282,6 +283,7 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
   // Filter and finish in place; oversized components with contrast are split afterwards.
   size_t kept = 0;
   oversized_.clear();
+  region_of_.assign(blobs.size(), -1);
   for (size_t i = 0; i < blobs.size(); ++i)
   {
     Blob b = blobs[i];
@@ -296,11 +298,45 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
       blobs[kept++] = b;
     else if (split && (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height ||
                        b.area > config_.max_area || static_cast<double>(b.width()) > config_.max_aspect * b.height()))
-      oversized_.push_back(b);
+    {
+      region_of_[i] = static_cast<int32_t>(oversized_.size());
+      oversized_.push_back(Region{ b, 0, 0 });
+    }
   }
   blobs.resize(kept);
-  for (const Blob& b : oversized_)
-    splitOversized(image, b, blobs);
+  collectSpans();
+  for (const Region& r : oversized_)
+    splitOversized(image, r, blobs);
+}
+
+void BlobDetector::collectSpans()
+{
+  // Counting sort of the runs by region: runs_ are in row order, so each region's spans are too.
+  spans_.clear();
+  if (oversized_.empty())
+    return;
+  for (size_t i = 0; i < runs_.size(); ++i)
+  {
+    const int32_t r = region_of_[static_cast<size_t>(blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))])];
+    if (r >= 0)
+      ++oversized_[static_cast<size_t>(r)].end;
+  }
+  int32_t total = 0;
+  for (Region& r : oversized_)
+  {
+    r.begin = total;
+    total += r.end;
+    r.end = r.begin;
+  }
+  spans_.resize(static_cast<size_t>(total));
+  for (size_t i = 0; i < runs_.size(); ++i)
+  {
+    const int32_t r = region_of_[static_cast<size_t>(blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))])];
+    if (r < 0)
+      continue;
+    const Run& run = runs_[i];
+    spans_[static_cast<size_t>(oversized_[static_cast<size_t>(r)].end++)] = Span{ run.y, run.x0, run.x1 };
+  }
 }
 
 bool BlobDetector::primitiveSized(const Blob& b) const
@@ -311,15 +347,16 @@ bool BlobDetector::primitiveSized(const Blob& b) const
          static_cast<double>(bw) <= config_.max_aspect * bh && b.area >= config_.min_fill * bw * bh;
 }
 
-void BlobDetector::splitOversized(const cv::Mat& image, const Blob& component, std::vector<Blob>& blobs)
+void BlobDetector::splitOversized(const cv::Mat& image, const Region& component, std::vector<Blob>& blobs)
 {
   // Fractions of the component's grey range, from just above the local threshold to near its peak.
   static constexpr float kLevels[kLastLevel] = { 0.5f, 0.65f, 0.78f, 0.88f, 0.95f };
+  const Blob& box = component.box;
   int lo = 255, hi = 0;
-  for (int y = component.y0; y < component.y1; ++y)
+  for (int y = box.y0; y < box.y1; ++y)
   {
     const uint8_t* row = image.ptr<uint8_t>(y);
-    for (int x = component.x0; x < component.x1; ++x)
+    for (int x = box.x0; x < box.x1; ++x)
     {
       lo = std::min(lo, static_cast<int>(row[x]));
       hi = std::max(hi, static_cast<int>(row[x]));
@@ -327,32 +364,33 @@ void BlobDetector::splitOversized(const cv::Mat& image, const Blob& component, s
   }
   pending_.clear();
   pending_.push_back(component);
-  pending_.back().level = 0;
-  // Breadth first: each oversized part is re-thresholded at the next level, inside its own box.
+  pending_.back().box.level = 0;
+  // Breadth first: each oversized part is re-thresholded at the next level, over its own pixels.
   for (size_t k = 0; k < pending_.size(); ++k)
   {
-    const Blob box = pending_[k];
-    const int level = box.level + 1;
+    const Region region = pending_[k];  // a copy: pending_ grows below
+    const int level = region.box.level + 1;
     if (level > kLastLevel)
       continue;
     const int threshold = lo + static_cast<int>(kLevels[level - 1] * static_cast<float>(hi - lo) + 0.5f);
     if (hi - threshold < config_.min_contrast)
       continue;
-    labelAbove(image, box, threshold);
-    for (Blob& part : parts_)
+    labelAbove(image, region, threshold);
+    for (Region& region_part : parts_)
     {
+      Blob& part = region_part.box;
       part.level = level;
       const bool small = primitive_w_ <= 0.0 ||
                          (part.width() <= 1.4 * primitive_w_ && part.height() <= 1.4 * primitive_h_);
       if (primitiveSized(part) && small)
       {
-        if (weighAbove(image, part, threshold))
+        if (weighAbove(image, region_part, threshold))
           blobs.push_back(part);
       }
       else if (level == kLastLevel && primitive_w_ > 0.0 && !cutByPitch(image, part, threshold, blobs))
         cellsOfBand(image, part, (lo + hi) / 2, blobs);
       else if (part.area > config_.min_area)
-        pending_.push_back(part);
+        pending_.push_back(region_part);
     }
   }
 }
@@ -539,37 +577,53 @@ int nextBit(const uint64_t* bits, int n, int i, bool set)
 }
 }  // namespace
 
-void BlobDetector::labelAbove(const cv::Mat& image, const Blob& box, int threshold)
+void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int threshold)
 {
-  // Runs above the threshold, row by row, joined 8-connected by union-find as in detect() (whose
-  // run buffers are free again by now). Only boxes and areas: centroids are taken for the parts
-  // kept (weighAbove).
+  // Runs above the threshold inside the region's spans, row by row, joined 8-connected by
+  // union-find as in detect() (whose run buffers are free again by now).
   parts_.clear();
   runs_.clear();
-  const int n = box.width();
-  bits_.resize(static_cast<size_t>((n + 63) / 64) + 1);
-  int prev_begin = 0, prev_end = 0;
-  for (int y = box.y0; y < box.y1; ++y)
+  bits_.resize(static_cast<size_t>((region.box.width() + 63) / 64) + 1);
+  int prev_begin = 0, prev_end = 0, prev_y = -2;
+  for (int s = region.begin; s < region.end;)
   {
-    maskAbove(image.ptr<uint8_t>(y) + box.x0, n, threshold, bits_.data());
+    const int y = spans_[static_cast<size_t>(s)].y;
+    const uint8_t* row = image.ptr<uint8_t>(y);
     const int cur_begin = static_cast<int>(runs_.size());
-    for (int x = nextBit(bits_.data(), n, 0, true); x < n; x = nextBit(bits_.data(), n, x, true))
+    for (; s < region.end && spans_[static_cast<size_t>(s)].y == y; ++s)
     {
-      const int end = nextBit(bits_.data(), n, x, false);
-      runs_.emplace_back();
-      Run& run = runs_.back();
-      run.y = y;
-      run.x0 = box.x0 + x;
-      run.x1 = box.x0 + end;
-      run.parent = static_cast<int32_t>(runs_.size() - 1);
-      x = end;
+      const Span span = spans_[static_cast<size_t>(s)];
+      const int n = span.x1 - span.x0;
+      split_pixels_ += n;
+      maskAbove(row + span.x0, n, threshold, bits_.data());
+      for (int x = nextBit(bits_.data(), n, 0, true); x < n; x = nextBit(bits_.data(), n, x, true))
+      {
+        const int end = nextBit(bits_.data(), n, x, false);
+        runs_.emplace_back();
+        Run& run = runs_.back();
+        run.y = y;
+        run.x0 = span.x0 + x;
+        run.x1 = span.x0 + end;
+        run.parent = static_cast<int32_t>(runs_.size() - 1);
+        x = end;
+      }
     }
     const int cur_end = static_cast<int>(runs_.size());
+    if (prev_y != y - 1)  // a row of the region without pixels lies between
+      prev_begin = prev_end = cur_begin;
     linkRows(prev_begin, prev_end, cur_begin, cur_end);
     prev_begin = cur_begin;
     prev_end = cur_end;
+    prev_y = y;
   }
+  groupRunsIntoParts();
+}
+
+void BlobDetector::groupRunsIntoParts()
+{
+  // Boxes and areas, then the runs copied into spans_ grouped by part (a counting sort).
   blob_of_root_.assign(runs_.size(), -1);
+  part_of_run_.resize(runs_.size());
   for (size_t i = 0; i < runs_.size(); ++i)
   {
     int32_t& index = blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))];
@@ -577,17 +631,32 @@ void BlobDetector::labelAbove(const cv::Mat& image, const Blob& box, int thresho
     if (index < 0)
     {
       index = static_cast<int32_t>(parts_.size());
-      Blob b;
-      b.x0 = run.x0;
-      b.x1 = run.x1;
-      b.y0 = run.y;
-      parts_.push_back(b);
+      Region r{ Blob(), 0, 0 };
+      r.box.x0 = run.x0;
+      r.box.x1 = run.x1;
+      r.box.y0 = run.y;
+      parts_.push_back(r);
     }
-    Blob& b = parts_[static_cast<size_t>(index)];
-    b.x0 = std::min(b.x0, run.x0);
-    b.x1 = std::max(b.x1, run.x1);
-    b.y1 = run.y + 1;
-    b.area += run.x1 - run.x0;
+    part_of_run_[i] = index;
+    Region& r = parts_[static_cast<size_t>(index)];
+    r.box.x0 = std::min(r.box.x0, run.x0);
+    r.box.x1 = std::max(r.box.x1, run.x1);
+    r.box.y1 = run.y + 1;
+    r.box.area += run.x1 - run.x0;
+    ++r.end;
+  }
+  int32_t next = static_cast<int32_t>(spans_.size());
+  for (Region& r : parts_)
+  {
+    r.begin = next;
+    next += r.end;
+    r.end = r.begin;
+  }
+  spans_.resize(static_cast<size_t>(next));
+  for (size_t i = 0; i < runs_.size(); ++i)
+  {
+    const Run& run = runs_[i];
+    spans_[static_cast<size_t>(parts_[static_cast<size_t>(part_of_run_[i])].end++)] = Span{ run.y, run.x0, run.x1 };
   }
 }
 
@@ -614,6 +683,31 @@ bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) cons
   b.u = static_cast<float>(swx / sw);
   b.v = static_cast<float>(swy / sw);
   b.contrast = static_cast<float>(peak);
+  return true;
+}
+
+bool BlobDetector::weighAbove(const cv::Mat& image, Region& part, int threshold) const
+{
+  double sw = 0.0, swx = 0.0, swy = 0.0;
+  int peak = 0;
+  for (int s = part.begin; s < part.end; ++s)
+  {
+    const Span& span = spans_[static_cast<size_t>(s)];
+    const uint8_t* row = image.ptr<uint8_t>(span.y);
+    for (int x = span.x0; x < span.x1; ++x)
+    {
+      const int w = static_cast<int>(row[x]) - threshold;  // > 0: the part is above the threshold
+      sw += w;
+      swx += static_cast<double>(w) * x;
+      swy += static_cast<double>(w) * span.y;
+      peak = std::max(peak, w);
+    }
+  }
+  if (sw <= 0.0)
+    return false;
+  part.box.u = static_cast<float>(swx / sw);
+  part.box.v = static_cast<float>(swy / sw);
+  part.box.contrast = static_cast<float>(peak);
   return true;
 }
 

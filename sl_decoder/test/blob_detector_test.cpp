@@ -96,3 +96,28 @@ TEST(BlobDetector, BlobsTouchingTheBorderAreKept)
   EXPECT_EQ(blobs[0].x0, 0);
   EXPECT_EQ(blobs[1].x1, 60);
 }
+
+// Diagonal stripes (found by fuzzing): every stripe is one component whose box covers most of the
+// image. Splitting re-thresholded each part's box, which held the other stripes too, so the parts
+// multiplied at every level (over a million after a minute). Splitting looks at a part's own
+// pixels only: at most five levels of the components' area.
+TEST(BlobDetector, SplittingDiagonalStripesStaysWithinTheirPixels)
+{
+  const uint8_t period[5] = { 128, 90, 15, 255, 255 };
+  cv::Mat image(480, 752, CV_8UC1);
+  for (int v = 0; v < image.rows; ++v)
+    for (int u = 0; u < image.cols; ++u)
+      image.at<uint8_t>(v, u) = period[(u + 5 * image.rows - v) % 5];
+  BlobDetector detector;
+  detector.setPrimitiveSize(9.0, 17.0, 14.0);  // about the default rig's
+  std::vector<Blob> blobs;
+  detector.detect(image, blobs);
+  EXPECT_GT(detector.splitPixels(), 0) << "the stripes are oversized components; they must be split";
+  EXPECT_LE(detector.splitPixels(), 5L * image.rows * image.cols);
+  for (const Blob& b : blobs)
+    EXPECT_GT(b.level, 0) << "stripes hold no primitive-sized component";
+  // Splitting a region twice would give the same part twice.
+  for (size_t i = 0; i < blobs.size(); ++i)
+    for (size_t j = i + 1; j < blobs.size(); ++j)
+      EXPECT_FALSE(blobs[i].u == blobs[j].u && blobs[i].v == blobs[j].v) << i << " " << j;
+}

@@ -22,10 +22,12 @@ namespace sl_decoder
  * are reused across calls: after the first image of a given size, detect() does not allocate.
  *
  * Near the camera, defocus and overexposure fill the gaps between primitives, so whole rows of them
- * come out as one component. With DecoderConfig::split_merged, a component too large for a primitive is therefore re-thresholded
- * inside its box at rising fractions of its grey range (like the stable regions of MSER): the
- * bridges between primitives are dimmer than their cores, so at some level the parts that pass
- * the filters appear. Such blobs carry the level in Blob::level.
+ * come out as one component. With DecoderConfig::split_merged, a component too large for a
+ * primitive is therefore re-thresholded, over its own pixels only, at rising fractions of its grey
+ * range (like the stable regions of MSER): the bridges between primitives are dimmer than their
+ * cores, so at some level the parts that pass the filters appear. Such blobs carry the level in
+ * Blob::level. Each level only looks at the pixels of the parts the previous level kept, so the
+ * work is at most kLastLevel times the component's area, whatever the image.
  */
 class BlobDetector
 {
@@ -63,6 +65,10 @@ public:
   /// @brief Number of components found before filtering in the last call.
   int componentCount() const { return components_; }
 
+  /// @brief Pixels re-thresholded while splitting oversized components in the last call: at most
+  /// kLastLevel (5) times their area, so never more than 5 times the image.
+  long splitPixels() const { return split_pixels_; }
+
 private:
   struct Run
   {
@@ -70,6 +76,19 @@ private:
     int32_t parent;     // union-find over runs
     float sw, swx;      // sum of weights, sum of weight * x
     float peak;         // max weight
+  };
+
+  /// Pixels [x0, x1) of row y.
+  struct Span
+  {
+    int32_t y, x0, x1;
+  };
+
+  /// A component being split: its box (and level) and its pixels, spans_[begin, end) in row order.
+  struct Region
+  {
+    Blob box;
+    int32_t begin, end;
   };
 
   struct Acc
@@ -87,8 +106,10 @@ private:
   bool primitiveSized(const Blob& b) const;
   /// True when a blob is wider than two merged primitives would need to be.
   bool merged(const Blob& b) const { return primitive_w_ > 0.0 && b.width() > 1.6 * primitive_w_; }
-  /// Re-thresholds the box of an oversized component; parts that pass the filters join @p blobs.
-  void splitOversized(const cv::Mat& image, const Blob& component, std::vector<Blob>& blobs);
+  /// Copies the runs of the components in oversized_ (marked in region_of_) into spans_.
+  void collectSpans();
+  /// Re-thresholds the pixels of an oversized component; parts that pass the filters join @p blobs.
+  void splitOversized(const cv::Mat& image, const Region& component, std::vector<Blob>& blobs);
   /// Cuts a saturated row of merged primitives into pieces of the pattern's pitch.
   /// False (and nothing added) when the part is not a few primitives wide.
   bool cutByPitch(const cv::Mat& image, const Blob& part, int threshold, std::vector<Blob>& blobs);
@@ -96,8 +117,13 @@ private:
   void cellsOfBand(const cv::Mat& image, const Blob& band, int t, std::vector<Blob>& blobs);
   /// Centroid (weights above @p threshold) and contrast of the pixels of @p b's box; false if none.
   bool weighAbove(const cv::Mat& image, Blob& b, int threshold) const;
-  /// Labels the pixels of @p box above @p threshold (8-connected); parts (box and area) go to parts_.
-  void labelAbove(const cv::Mat& image, const Blob& box, int threshold);
+  /// The same over the pixels of @p part only (neighbours' light in its box does not pull it).
+  bool weighAbove(const cv::Mat& image, Region& part, int threshold) const;
+  /// Labels the pixels of @p region above @p threshold (8-connected); the parts (box, area and
+  /// their pixels, appended to spans_) go to parts_.
+  void labelAbove(const cv::Mat& image, const Region& region, int threshold);
+  /// Forms parts_ from the linked runs_ and appends their pixels to spans_.
+  void groupRunsIntoParts();
 
   DecoderConfig config_;
   std::vector<int32_t> col_sum_;    // column sums over the window rows of the current row
@@ -108,12 +134,16 @@ private:
   std::vector<int32_t> blob_of_root_;
   std::vector<Acc> acc_;
   int components_ = 0;
+  long split_pixels_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
   static constexpr int kLastLevel = 5;  // raised thresholds tried before cutting by the pitch
   static constexpr float kBandMinMargin = 0.3f;  // px between the lopsided and the straight edge
   std::vector<float> top_, bottom_;  // outline of a saturated band per column, px
   // Splitting of oversized components (buffers reused).
-  std::vector<Blob> oversized_, pending_, parts_;
+  std::vector<Region> oversized_, pending_, parts_;
+  std::vector<Span> spans_;            // pixels of the regions above
+  std::vector<int32_t> region_of_;     // per component of detect(): its index in oversized_, or -1
+  std::vector<int32_t> part_of_run_;   // per run of labelAbove(): its index in parts_
 };
 
 }  // namespace sl_decoder

@@ -311,31 +311,39 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
 
 void BlobDetector::collectSpans()
 {
-  // Counting sort of the runs by region: runs_ are in row order, so each region's spans are too.
   spans_.clear();
   if (oversized_.empty())
     return;
+  part_of_run_.resize(runs_.size());
   for (size_t i = 0; i < runs_.size(); ++i)
   {
     const int32_t r = region_of_[static_cast<size_t>(blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))])];
+    part_of_run_[i] = r;
     if (r >= 0)
       ++oversized_[static_cast<size_t>(r)].end;
   }
-  int32_t total = 0;
-  for (Region& r : oversized_)
+  appendSpans(oversized_);
+}
+
+void BlobDetector::appendSpans(std::vector<Region>& regions)
+{
+  // Counting sort: each region's end holds its run count; runs_ are in row order, so each
+  // region's spans are too.
+  int32_t next = static_cast<int32_t>(spans_.size());
+  for (Region& r : regions)
   {
-    r.begin = total;
-    total += r.end;
+    r.begin = next;
+    next += r.end;
     r.end = r.begin;
   }
-  spans_.resize(static_cast<size_t>(total));
+  spans_.resize(static_cast<size_t>(next));
   for (size_t i = 0; i < runs_.size(); ++i)
   {
-    const int32_t r = region_of_[static_cast<size_t>(blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))])];
+    const int32_t r = part_of_run_[i];
     if (r < 0)
       continue;
     const Run& run = runs_[i];
-    spans_[static_cast<size_t>(oversized_[static_cast<size_t>(r)].end++)] = Span{ run.y, run.x0, run.x1 };
+    spans_[static_cast<size_t>(regions[static_cast<size_t>(r)].end++)] = Span{ run.y, run.x0, run.x1 };
   }
 }
 
@@ -621,7 +629,7 @@ void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int th
 
 void BlobDetector::groupRunsIntoParts()
 {
-  // Boxes and areas, then the runs copied into spans_ grouped by part (a counting sort).
+  // Boxes, areas and run counts, then the runs copied into spans_ grouped by part.
   blob_of_root_.assign(runs_.size(), -1);
   part_of_run_.resize(runs_.size());
   for (size_t i = 0; i < runs_.size(); ++i)
@@ -645,19 +653,7 @@ void BlobDetector::groupRunsIntoParts()
     r.box.area += run.x1 - run.x0;
     ++r.end;
   }
-  int32_t next = static_cast<int32_t>(spans_.size());
-  for (Region& r : parts_)
-  {
-    r.begin = next;
-    next += r.end;
-    r.end = r.begin;
-  }
-  spans_.resize(static_cast<size_t>(next));
-  for (size_t i = 0; i < runs_.size(); ++i)
-  {
-    const Run& run = runs_[i];
-    spans_[static_cast<size_t>(parts_[static_cast<size_t>(part_of_run_[i])].end++)] = Span{ run.y, run.x0, run.x1 };
-  }
+  appendSpans(parts_);
 }
 
 bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) const

@@ -124,6 +124,9 @@ private:
   void labelAbove(const cv::Mat& image, const Region& region, int threshold);
   /// Forms parts_ from the linked runs_ and appends their pixels to spans_.
   void groupRunsIntoParts();
+  /// Appends the runs of each region (part_of_run_: its index in @p regions, or -1; each region's
+  /// end: its run count) to spans_ and sets the regions' [begin, end).
+  void appendSpans(std::vector<Region>& regions);
 
   DecoderConfig config_;
   std::vector<int32_t> col_sum_;    // column sums over the window rows of the current row
@@ -143,7 +146,7 @@ private:
   std::vector<Region> oversized_, pending_, parts_;
   std::vector<Span> spans_;            // pixels of the regions above
   std::vector<int32_t> region_of_;     // per component of detect(): its index in oversized_, or -1
-  std::vector<int32_t> part_of_run_;   // per run of labelAbove(): its index in parts_
+  std::vector<int32_t> part_of_run_;   // per run: its region (oversized_ or parts_), or -1
 };
 
 }  // namespace sl_decoder

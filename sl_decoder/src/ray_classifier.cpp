@@ -20,11 +20,14 @@ constexpr int kMaxSamples = 256;
 constexpr int kFloorMargin = 6;         // px: floor pixels this close to the border are not tested
 constexpr float kFloorLight = 0.35f;    // floor light: centre line mean above the background, noise floors
 constexpr float kStrongFloorLight = 0.5f;  // floor light that needs no walk up to the floor, noise floors
-constexpr float kFloorGap = 0.7f;
+constexpr float kFloorGap = 0.7f;        // the gaps beside the floor light darker by this fraction of it
 constexpr int kBorderBlocks = 2;        // light-map blocks at the image border whose light is nobody's own
 constexpr float kSupport = 0.03f;       // m: a suspect needs a neighbouring row's decoded or lit end this close
 constexpr int kSupportCols = 2;         // ... in a column at most this far from its own
-constexpr float kNearFloor = 0.9f;      // a walk stopped beyond this fraction of the floor depth reached it       // the gaps beside it darker by this fraction of that light
+constexpr int kGlowSupportCols = 3;     // columns searched for a surface behind a suspect in the glow zone
+constexpr float kOnFloor = 0.95f;       // a decoded point beyond this fraction of its ray's floor depth is on the floor
+constexpr float kGlowChainDepth = 0.08f;  // m: a confirmed glow suspect of a neighbouring row this near in depth
+constexpr float kNearFloor = 0.9f;      // a walk stopped beyond this fraction of the floor depth reached it
 
 void check(bool ok, const char* field, const std::string& rule)
 {
@@ -157,6 +160,7 @@ void RayClassifier::precompute(const sl_projector::Rig& rig, const DecoderConfig
   floor_light_.assign(static_cast<size_t>(n), 0.f);
   lit_free_.assign(static_cast<size_t>(n), -1);
   unsupported_.assign(static_cast<size_t>(n), 0);
+  near_other_.assign(static_cast<size_t>(n), 0);
   bounds_.reserve(static_cast<size_t>(n) + 16);
 }
 
@@ -565,6 +569,7 @@ void RayClassifier::walk(int index, RayOutcome& out)
   const bool checked = stop == kReachedFloor || ((stop == kHidden || stop == kOther) && near_floor);
   const bool floor =
       floor_light > 0.f && (checked || ((stop == kUndetectable || stop == kEnd) && floor_light >= strong));
+  const bool near_other = stop == kOther && samples_[static_cast<size_t>(k)].z < config_.glow_max_depth;
   if (stop == kLit)
   {
     setOutcome(out, RayState::Lit, index, samples_[static_cast<size_t>(k)].z);
@@ -574,6 +579,14 @@ void RayClassifier::walk(int index, RayOutcome& out)
   {
     setOutcome(out, RayState::Floor, index, p.floor_z);
     out.start = origin_;
+  }
+  else if (near_other)
+  {
+    // In the glow zone defocus blurs shapes and smears light to the border: the light may be this
+    // ray's own. A suspect only if dropUnsupportedSuspects() finds a surface decoded behind it.
+    setOutcome(out, RayState::Lit, index, samples_[static_cast<size_t>(k)].z);
+    lit_free_[static_cast<size_t>(index)] = last_free;
+    near_other_[static_cast<size_t>(index)] = 1;
   }
   else if (last_free >= 0)
   {
@@ -628,6 +641,7 @@ void RayClassifier::classify(const cv::Mat& image, const DecodeResult& result, s
   {
     RayOutcome& o = outcomes[static_cast<size_t>(i)];
     lit_free_[static_cast<size_t>(i)] = -1;
+    near_other_[static_cast<size_t>(i)] = 0;
     if (o.state != RayState::Decoded && o.state != RayState::Floor)
     {
       o = RayOutcome();
@@ -639,35 +653,75 @@ void RayClassifier::classify(const cv::Mat& image, const DecodeResult& result, s
     ++counts_[static_cast<size_t>(o.state)];
 }
 
+bool RayClassifier::confirmed(const std::vector<RayOutcome>& outcomes, int i) const
+{
+  const RayOutcome& o = outcomes[static_cast<size_t>(i)];
+  const int r = i / cols_, c = i % cols_;
+  // Its own light: a neighbouring row's decoded or lit end within kSupport.
+  if (near_other_[static_cast<size_t>(i)] == 0)
+    for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1); rr += 2)
+      for (int cc = std::max(0, c - kSupportCols); cc <= std::min(cols_ - 1, c + kSupportCols); ++cc)
+      {
+        const size_t j = static_cast<size_t>(rr * cols_ + cc);
+        const RayOutcome& q = outcomes[j];
+        // A glow-zone suspect at other light is no evidence for anyone else's.
+        if ((q.state == RayState::Decoded || (q.state == RayState::Lit && near_other_[j] == 0)) &&
+            (q.end - o.end).squaredNorm() <= kSupport * kSupport)
+          return true;
+      }
+  // Near the camera (glow_max_depth) defocus smears a surface's pattern into a glow that the walk
+  // meets before the surface itself (and blurs shapes, so light of another shape may be its own):
+  // a surface decoded just behind, in the glow zone, confirms it.
+  const float glow_depth = static_cast<float>(config_.glow_max_depth);
+  if (!(o.depth < glow_depth))
+    return false;
+  for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1); ++rr)
+    for (int cc = std::max(0, c - kGlowSupportCols); cc <= std::min(cols_ - 1, c + kGlowSupportCols); ++cc)
+    {
+      const size_t j = static_cast<size_t>(rr * cols_ + cc);
+      const RayOutcome& q = outcomes[j];
+      // Not a floor point: the floor near the robot glows too, in front of no obstacle.
+      if (q.state == RayState::Decoded && q.depth >= o.depth - kSupport && q.depth <= glow_depth &&
+          q.depth < kOnFloor * prims_[j].limit)
+        return true;
+    }
+  return false;
+}
+
 void RayClassifier::dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes)
 {
   // A surface returns the pattern of several rows. Unexplained light that ends a ray as a suspect
   // (the pattern's edge cut by the image border, the dim rows stretched on the floor at the foot
   // of a wall) is another primitive's light as often as not, and crosses the segments of one
-  // pattern row at a different depth for each column: a suspect that no primitive of a
-  // neighbouring row confirms (decoded or lit within kSupport) ends the free part there instead.
-  const float support2 = kSupport * kSupport;
+  // pattern row at a different depth for each column: a suspect that nothing confirms
+  // (confirmed()) ends the free part there instead.
+  for (int i = 0; i < rows_ * cols_; ++i)
+    unsupported_[static_cast<size_t>(i)] =
+        outcomes[static_cast<size_t>(i)].state == RayState::Lit && !confirmed(outcomes, i);
+  // In the glow zone, where few primitives decode, a confirmed suspect of a neighbouring row at
+  // about the same depth also confirms one (one step: unconfirmed suspects never confirm each other).
+  const float glow_depth = static_cast<float>(config_.glow_max_depth);
   for (int i = 0; i < rows_ * cols_; ++i)
   {
     const RayOutcome& o = outcomes[static_cast<size_t>(i)];
-    bool supported = o.state != RayState::Lit;
+    if (!unsupported_[static_cast<size_t>(i)] || !(o.depth < glow_depth))
+      continue;
     const int r = i / cols_, c = i % cols_;
-    for (int rr = r - 1; rr <= r + 1 && !supported; rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
-           ++cc)
+    for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1) && unsupported_[static_cast<size_t>(i)]; rr += 2)
+      for (int cc = std::max(0, c - kSupportCols); cc <= std::min(cols_ - 1, c + kSupportCols); ++cc)
       {
-        const RayOutcome& q = outcomes[static_cast<size_t>(rr * cols_ + cc)];
-        if ((q.state == RayState::Lit || q.state == RayState::Decoded) && (q.end - o.end).squaredNorm() <= support2)
+        const size_t j = static_cast<size_t>(rr * cols_ + cc);
+        if (outcomes[j].state == RayState::Lit && unsupported_[j] == 0 && near_other_[j] == 0 &&
+            std::fabs(outcomes[j].depth - o.depth) <= kGlowChainDepth)
         {
-          supported = true;
+          unsupported_[static_cast<size_t>(i)] = 2;  // confirmed in this pass; not a source for others
           break;
         }
       }
-    unsupported_[static_cast<size_t>(i)] = !supported;
   }
   for (int i = 0; i < rows_ * cols_; ++i)
   {
-    if (!unsupported_[static_cast<size_t>(i)])
+    if (unsupported_[static_cast<size_t>(i)] != 1)
       continue;
     RayOutcome& o = outcomes[static_cast<size_t>(i)];
     const int32_t last_free = lit_free_[static_cast<size_t>(i)];

@@ -222,6 +222,45 @@ TEST(RayClassifier, PlaneAt25cmIsLitNeverDark)
   }
 }
 
+/// Dark rays whose free part ends inside the image (not where the segment leaves the view).
+int darkInView(const Frame& f)
+{
+  const sl_projector::PinholeModel& camera = setup().rig.camera;
+  int n = 0;
+  for (const RayOutcome& o : f.rays)
+  {
+    if (o.state != RayState::Dark)
+      continue;
+    const Eigen::Vector2d px = camera.project(o.end.cast<double>());
+    n += px.x() >= 12.0 && px.y() >= 12.0 && px.x() < camera.width - 12.0 && px.y() < camera.height - 12.0;
+  }
+  return n;
+}
+
+TEST(RayClassifier, PlanesWhereTheRobotStopsAreNeverDark)
+{
+  // Where the robot stops (the camera 0.30 to 0.48 m from an obstacle) the pattern is blurred and
+  // partly merged: every primitive not decoded there must still report the light (lit), never dark
+  // (except where its segment leaves the image first). Planes head-on and turned, albedo down to
+  // 0.15 (min_albedo is 0.1).
+  for (const double depth : { 0.30, 0.33, 0.35, 0.38, 0.40, 0.43, 0.45, 0.48 })
+  {
+    for (const double albedo : { 0.8, 0.35, 0.15 })
+    {
+      const double yaw = albedo < 0.5 ? 0.2 : 0.0;
+      const sl_camera::Scene scene = planeScene(depth, albedo, false, yaw, 0.0, 0.03);
+      Frame f;
+      for (uint64_t seed = 3; seed <= 4; ++seed)
+      {
+        classify(scene, seed, f);
+        EXPECT_EQ(darkInView(f), 0) << "plane " << depth << " m, albedo " << albedo << ", seed " << seed << ": "
+                                    << countsText(f);
+        EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "near plane"), 0) << depth << " " << albedo << " " << seed;
+      }
+    }
+  }
+}
+
 TEST(RayClassifier, FloorOnlySceneGivesFloorOnTheLowerRows)
 {
   // The lower rows: floor hits nearer than 0.8 m (rows 14 and 15 of the default rig). Farther the
@@ -413,30 +452,35 @@ void seenOnObject(const sl_camera::Scene& scene, const Frame& f, const std::stri
 }
 }  // namespace
 
-TEST(RayClassifier, AWallMakesFewPhantomSuspectsInFrontOfIt)
+TEST(RayClassifier, AWallMakesNoPhantomSuspectsInFrontOfIt)
 {
   // Unexplained light (the pattern's edge cut by the image border, the dim rows stretched on the
-  // floor at the foot of the wall) must not put suspects into the empty space in front of a wall:
-  // each is an obstacle in the map that is not there, and the robot would not drive up to the wall.
-  // Measured: 0 from each pose (52, 52, 18 and 72 before border light and unconfirmed suspects were
-  // told apart).
+  // floor at the foot of the wall, the glow of the floor near the robot) must not put suspects into
+  // the empty space in front of a wall: each is an obstacle in the map that is not there, and the
+  // robot would not drive up to the wall. Measured: 0 from each pose and seed (52, 52, 18 and 72
+  // before border light and unconfirmed suspects were told apart; 3 at 0.25 m in front of the
+  // camera from the first pose, seeds 2 to 12, while decoded floor points could confirm glow: the
+  // closed-loop filter_wall then never started in 2 of 5 runs).
   const sl_camera::Scene scene = sl_camera::parseScene(
       "format_version: 1\nobjects:\n"
       "  - {type: plane, name: floor, position: [0, 0, 0], normal: [0, 0, 1], albedo: 0.35,\n"
       "     texture: {type: noise, scale: 0.05, contrast: 0.3}, floor: true}\n"
       "  - {type: plane, name: wall, position: [1.0, 0, 1.0], normal: [-1, 0, 0], size: [3, 2], albedo: 0.8}\n",
       "wall");
-  const double poses[][3] = { { 0.0, 0.0, 0.0 }, { 0.3, 0.0, 0.0 }, { 0.5, 0.1, 0.2 }, { 0.2, -0.1, -0.3 } };
+  // platform_edge poses (x, y, yaw): from 1 m away to where the robot stops and turns (0.4 to 0.55 m).
+  const double poses[][3] = { { 0.0, 0.0, 0.0 },  { 0.3, 0.0, 0.0 },   { 0.5, 0.1, 0.2 },   { 0.2, -0.1, -0.3 },
+                              { 0.5, 0.0, 0.0 },  { 0.55, 0.0, -0.5 }, { 0.58, 0.05, 0.35 }, { 0.45, -0.1, 0.7 } };
   Frame f;
   for (const auto& p : poses)
-  {
-    classifyFrom(scene, p[0], p[1], p[2], 1, f);
-    const int phantoms = phantomSuspects(scene, f, 0.05);
-    std::printf("wall from (%.1f, %.1f, %.1f): %s; phantom suspects %d\n", p[0], p[1], p[2], countsText(f).c_str(),
-                phantoms);
-    EXPECT_LE(phantoms, 3);
-    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "wall"), 0);
-  }
+    for (uint64_t seed = 1; seed <= 4; ++seed)
+    {
+      classifyFrom(scene, p[0], p[1], p[2], seed, f);
+      const int phantoms = phantomSuspects(scene, f, 0.05);
+      std::printf("wall from (%.2f, %.2f, %.2f), seed %d: %s; phantom suspects %d\n", p[0], p[1], p[2],
+                  static_cast<int>(seed), countsText(f).c_str(), phantoms);
+      EXPECT_EQ(phantoms, 0) << p[0] << " " << p[1] << " " << p[2] << " seed " << seed;
+      EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "wall"), 0);
+    }
 }
 
 TEST(RayClassifier, ALegAfterATurnStaysAnObstacle)
@@ -510,3 +554,4 @@ TEST(RayClassifier, ExtremeLensesBuildInBoundedWork)
   }
   EXPECT_GE(built, 2) << "the centre of the image keeps the pattern in view";
 }
+

@@ -218,6 +218,9 @@ private:
   void walk(int index, RayOutcome& out);
   /// Turns lit ends that no neighbouring row confirms into the end of a free part (dark).
   void dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes);
+  /// Whether lit outcome @p i is confirmed: by a neighbouring row's end within kSupport (its own
+  /// light only), or in the glow zone by a surface decoded just behind it nearby.
+  bool confirmed(const std::vector<RayOutcome>& outcomes, int i) const;
   void setOutcome(RayOutcome& out, RayState state, int index, float z) const;
 
   RayConfig config_;
@@ -241,6 +244,7 @@ private:
   std::vector<float> floor_light_;  // per primitive: floorLight() of this frame
   std::vector<int32_t> lit_free_;   // per primitive: the last free sample before its light (lit), -1 none
   std::vector<uint8_t> unsupported_;  // per primitive: a lit end no neighbouring row confirms
+  std::vector<uint8_t> near_other_;   // per primitive: lit at light of another shape or the border, in the glow zone
   // Per-frame results.
   double c1_ = 0.0, frame_bound_ = 0.0, detectable_depth_ = 0.0;
   float k_ = 0.f;          // light_fraction * min_albedo * C1

@@ -1,5 +1,7 @@
 #include "create_driver/driver_core.h"
 
+#include <stdexcept>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -17,47 +19,48 @@ bool positive(double v)
 }
 }  // namespace
 
-std::string validateConfig(const DriverConfig& c)
+void validateConfig(const DriverConfig& c)
 {
   const VelocityLimits& l = c.limits;
   if (!positive(l.max_speed) || l.max_speed > 0.5)
-    return "max_speed must be in (0, 0.5] m/s";
+    throw std::invalid_argument("max_speed must be in (0, 0.5] m/s");
   if (!positive(l.max_angular_speed))
-    return "max_angular_speed must be > 0";
+    throw std::invalid_argument("max_angular_speed must be > 0");
   if (!std::isfinite(l.max_accel) || l.max_accel < 0.0)
-    return "max_accel must be >= 0 (0 = unlimited)";
+    throw std::invalid_argument("max_accel must be >= 0 (0 = unlimited)");
   if (!std::isfinite(l.max_angular_accel) || l.max_angular_accel < 0.0)
-    return "max_angular_accel must be >= 0 (0 = unlimited)";
+    throw std::invalid_argument("max_angular_accel must be >= 0 (0 = unlimited)");
   if (!positive(l.max_wheel_speed) || l.max_wheel_speed > 0.5)
-    return "max_wheel_speed must be in (0, 0.5] m/s";
-  if (!positive(l.wheel_base) || l.wheel_base > 1.0)
-    return "wheel_base must be in (0, 1] m";
+    throw std::invalid_argument("max_wheel_speed must be in (0, 0.5] m/s");
+  if (!(l.wheel_base > 0.05 && l.wheel_base < 1.0))
+    throw std::invalid_argument("wheel_base must be in (0.05, 1) m");
   if (!positive(c.cmd_vel_timeout))
-    return "cmd_vel_timeout must be > 0";
+    throw std::invalid_argument("cmd_vel_timeout must be > 0");
   if (!positive(c.command_refresh))
-    return "command_refresh must be > 0";
+    throw std::invalid_argument("command_refresh must be > 0");
   const DriveDistanceParams& d = c.drive_distance;
   if (!positive(d.min_speed) || d.min_speed > l.max_speed)
-    return "drive_distance/min_speed must be in (0, max_speed]";
+    throw std::invalid_argument("drive_distance/min_speed must be in (0, max_speed]");
   if (!positive(d.max_speed))
-    return "drive_distance max speed must be > 0";
+    throw std::invalid_argument("drive_distance max speed must be > 0");
   if (!positive(d.decel))
-    return "drive_distance/decel must be > 0";
+    throw std::invalid_argument("drive_distance/decel must be > 0");
   if (!std::isfinite(d.tolerance) || d.tolerance < 0.0 || d.tolerance > 0.05)
-    return "drive_distance/tolerance must be in [0, 0.05] m";
+    throw std::invalid_argument("drive_distance/tolerance must be in [0, 0.05] m");
   if (!std::isfinite(d.latency) || d.latency < 0.0 || d.latency > 1.0)
-    return "drive_distance/latency must be in [0, 1] s";
+    throw std::invalid_argument("drive_distance/latency must be in [0, 1] s");
   if (!positive(d.stall_timeout))
-    return "drive_distance/stall_timeout must be > 0";
+    throw std::invalid_argument("drive_distance/stall_timeout must be > 0");
   if (!std::isfinite(d.heading_gain) || d.heading_gain < 0.0)
-    return "drive_distance/heading_gain must be >= 0";
+    throw std::invalid_argument("drive_distance/heading_gain must be >= 0");
+  if (!std::isfinite(d.max_heading_rate) || d.max_heading_rate < 0.0)
+    throw std::invalid_argument("drive_distance/max_heading_rate must be >= 0");
   if (c.use_wait_distance && c.model != Model::CREATE_1)
-    return "use_wait_distance is only available on the Create 1 (model create_1)";
+    throw std::invalid_argument("use_wait_distance is only available on the Create 1 (model create_1)");
   if (c.mode == OiMode::OFF)
-    return "oi_mode must be passive, safe or full";
+    throw std::invalid_argument("oi_mode must be passive, safe or full");
   if (!positive(c.odometry.wheel_base))
-    return "wheel_base must be > 0";
-  return "";
+    throw std::invalid_argument("wheel_base must be > 0");
 }
 
 std::vector<uint8_t> driverStreamIds(Model model)

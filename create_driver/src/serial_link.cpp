@@ -2,11 +2,30 @@
 
 #include <termios.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 
 namespace create_driver
 {
+
+void SerialLinkParams::validate() const
+{
+  auto require = [](bool ok, const char* message) {
+    if (!ok)
+      throw std::invalid_argument(message);
+  };
+  require(!port.empty(), "port must not be empty");
+  require(baud > 0, "baud must be > 0");
+  require(tick_period >= 0.001 && tick_period <= 0.1, "control_period must be in [0.001, 0.1] s");
+  require(link.initial_backoff > 0.0 && std::isfinite(link.initial_backoff), "reconnect_initial_delay must be > 0");
+  require(link.max_backoff >= link.initial_backoff && std::isfinite(link.max_backoff),
+          "reconnect_max_delay must be >= reconnect_initial_delay");
+  require(link.frame_timeout > 0.05 && std::isfinite(link.frame_timeout), "link_timeout must be > 0.05 s");
+  require(link.start_timeout > 0.1 && std::isfinite(link.start_timeout), "start_timeout must be > 0.1 s");
+}
 double steadyNow()
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();

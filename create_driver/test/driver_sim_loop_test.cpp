@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "create_driver/driver_core.h"
+#include "create_driver/serial_link.h"
 #include "create_driver/sim_robot.h"
 
 using create_driver::Bytes;
@@ -141,19 +142,66 @@ TEST(DriverSimLoop, StartSequence)
   EXPECT_EQ(l.drv.stats().start_sequences, 1u);
 }
 
-TEST(DriverSimLoop, ConfigValidation)
+namespace
 {
-  EXPECT_EQ(cd::validateConfig(cd::DriverConfig()), "");
+void validate(const cd::DriverConfig& c)
+{
+  cd::validateConfig(c);
+}
+void validate(const cd::SerialLinkParams& p)
+{
+  p.validate();
+}
+
+/// The message validate() throws for @p c ("" when it accepts it).
+template <typename Config>
+std::string refusal(const Config& c)
+{
+  try
+  {
+    validate(c);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(DriverSimLoop, ConfigValidationNamesTheParameter)
+{
+  EXPECT_EQ(refusal(cd::DriverConfig()), "");
   cd::DriverConfig c;
   c.limits.max_speed = 0.0;
-  EXPECT_NE(cd::validateConfig(c).find("max_speed"), std::string::npos);
+  EXPECT_EQ(refusal(c).rfind("max_speed", 0), 0u) << refusal(c);
   c = cd::DriverConfig();
   c.use_wait_distance = true;
   c.model = cd::Model::CREATE_2;
-  EXPECT_NE(cd::validateConfig(c).find("use_wait_distance"), std::string::npos);
+  EXPECT_EQ(refusal(c).rfind("use_wait_distance", 0), 0u) << refusal(c);
   c = cd::DriverConfig();
   c.cmd_vel_timeout = -1;
-  EXPECT_NE(cd::validateConfig(c).find("cmd_vel_timeout"), std::string::npos);
+  EXPECT_EQ(refusal(c).rfind("cmd_vel_timeout", 0), 0u) << refusal(c);
+  c = cd::DriverConfig();
+  c.limits.wheel_base = 0.05;  // the bound the nodelet once checked apart, (0.05, 1) m
+  EXPECT_EQ(refusal(c).rfind("wheel_base", 0), 0u) << refusal(c);
+  c = cd::DriverConfig();
+  c.drive_distance.max_heading_rate = std::nan("");
+  EXPECT_EQ(refusal(c).rfind("drive_distance/max_heading_rate", 0), 0u) << refusal(c);
+
+  EXPECT_EQ(refusal(cd::SerialLinkParams()), "");
+  cd::SerialLinkParams p;
+  p.port.clear();
+  EXPECT_EQ(refusal(p).rfind("port", 0), 0u) << refusal(p);
+  p = cd::SerialLinkParams();
+  p.tick_period = 0.5;
+  EXPECT_EQ(refusal(p).rfind("control_period", 0), 0u) << refusal(p);
+  p = cd::SerialLinkParams();
+  p.link.max_backoff = 0.1;
+  EXPECT_EQ(refusal(p).rfind("reconnect_max_delay", 0), 0u) << refusal(p);
+  p = cd::SerialLinkParams();
+  p.link.frame_timeout = 0.01;
+  EXPECT_EQ(refusal(p).rfind("link_timeout", 0), 0u) << refusal(p);
 }
 
 TEST(DriverSimLoop, StartSequenceIsRepeatedWhenUnanswered)

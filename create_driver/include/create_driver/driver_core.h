@@ -46,9 +46,10 @@ struct DriverConfig
   Odometry::Params odometry;
 };
 
-/// @brief Checks a configuration.
-/// @return an empty string if valid, otherwise a message naming the offending field
-std::string validateConfig(const DriverConfig& config);
+/// @brief Checks a configuration: the one place where the driver's ranges live.
+/// @throws std::invalid_argument whose message starts with the offending field, named as the
+///         driver's ROS parameter (max_speed, drive_distance/decel, ...).
+void validateConfig(const DriverConfig& config);
 
 /// @brief Packet ids the driver streams for a model (7, 9..12, 18..26, 35; plus 43, 44 on the
 /// Create 2).

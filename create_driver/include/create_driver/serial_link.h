@@ -33,6 +33,12 @@ struct SerialLinkParams
   double tick_period = 0.01;          ///< s, period of the supervision / control tick
   LinkParams link;                    ///< backoff and timeouts
   size_t max_pending_write = 4096;    ///< bytes queued for writing before the link is declared stalled
+
+  /// @brief Checks every field.
+  /// @throws std::invalid_argument whose message starts with the driver's ROS parameter of the
+  ///         offending field (port, baud, control_period, reconnect_initial_delay,
+  ///         reconnect_max_delay, link_timeout, start_timeout).
+  void validate() const;
 };
 
 /// Snapshot of SerialLink counters.

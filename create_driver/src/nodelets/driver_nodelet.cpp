@@ -26,6 +26,7 @@
 #include "create_driver/Mode.h"
 #include "create_driver/driver_core.h"
 #include "create_driver/serial_link.h"
+#include "sl_params/params.h"
 
 namespace create_driver
 {
@@ -46,18 +47,6 @@ static_assert(DriveDistanceResult::INVALID_GOAL == static_cast<uint8_t>(StopReas
 
 namespace
 {
-/// Reads an optional private parameter; a value of the wrong type is an error naming it.
-template <typename T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
-{
-  if (!pnh.hasParam(name))
-    return fallback;
-  T value;
-  if (!pnh.getParam(name, value))
-    throw std::invalid_argument("~" + name + " has the wrong type");
-  return value;
-}
-
 void require(bool ok, const std::string& message)
 {
   if (!ok)
@@ -200,7 +189,7 @@ private:
 
   void loadParameters(const ros::NodeHandle& pnh)
   {
-    model_name_ = param<std::string>(pnh, "model", "create_1");
+    model_name_ = sl_params::read<std::string>(pnh, "model", "create_1");
     if (model_name_ == "create_1" || model_name_ == "create")
       config_.model = Model::CREATE_1;
     else if (model_name_ == "create_2" || model_name_ == "roomba_600")
@@ -208,13 +197,10 @@ private:
     else
       throw std::invalid_argument("~model must be create_1 or create_2 (got '" + model_name_ + "')");
 
-    link_params_.port = param<std::string>(pnh, "port", "/dev/ttyUSB0");
-    require(!link_params_.port.empty(), "~port must not be empty");
-    const int baud = param<int>(pnh, "baud", static_cast<int>(defaultBaud(config_.model)));
-    require(baud > 0, "~baud must be > 0");
-    link_params_.baud = static_cast<unsigned>(baud);
+    link_params_.port = sl_params::read<std::string>(pnh, "port", "/dev/ttyUSB0");
+    link_params_.baud = sl_params::read<unsigned>(pnh, "baud", defaultBaud(config_.model));
 
-    const std::string mode = param<std::string>(pnh, "oi_mode", "safe");
+    const std::string mode = sl_params::read<std::string>(pnh, "oi_mode", "safe");
     if (mode == "safe")
       config_.mode = OiMode::SAFE;
     else if (mode == "full")
@@ -224,7 +210,7 @@ private:
     else
       throw std::invalid_argument("~oi_mode must be safe, full or passive (got '" + mode + "')");
 
-    const std::string drive = param<std::string>(pnh, "drive_command", "direct");
+    const std::string drive = sl_params::read<std::string>(pnh, "drive_command", "direct");
     if (drive == "direct")
       config_.drive_type = DriveCommandType::DIRECT;
     else if (drive == "radius")
@@ -232,66 +218,51 @@ private:
     else
       throw std::invalid_argument("~drive_command must be direct or radius (got '" + drive + "')");
 
-    const double wheel_base = param<double>(pnh, "wheel_base", defaultWheelBase(config_.model));
-    require(std::isfinite(wheel_base) && wheel_base > 0.05 && wheel_base < 1.0, "~wheel_base must be in (0.05, 1) m");
+    // Ranges: validateConfig() and SerialLinkParams::validate() below, the only place they live.
+    const double wheel_base = sl_params::read<double>(pnh, "wheel_base", defaultWheelBase(config_.model));
     config_.limits.wheel_base = wheel_base;
     config_.odometry.wheel_base = wheel_base;
-    config_.limits.max_speed = param<double>(pnh, "max_speed", 0.5);
-    require(config_.limits.max_speed > 0.0 && config_.limits.max_speed <= 0.5, "~max_speed must be in (0, 0.5] m/s");
-    config_.limits.max_angular_speed = param<double>(pnh, "max_angular_speed", 2.0 * 0.5 / wheel_base);
-    require(config_.limits.max_angular_speed > 0.0, "~max_angular_speed must be > 0");
-    config_.limits.max_accel = param<double>(pnh, "max_accel", 1.0);
-    require(config_.limits.max_accel >= 0.0, "~max_accel must be >= 0 (0 = unlimited)");
-    config_.limits.max_angular_accel = param<double>(pnh, "max_angular_accel", 6.0);
-    require(config_.limits.max_angular_accel >= 0.0, "~max_angular_accel must be >= 0 (0 = unlimited)");
+    config_.limits.max_speed = sl_params::read<double>(pnh, "max_speed", 0.5);
+    config_.limits.max_angular_speed = sl_params::read<double>(pnh, "max_angular_speed", 2.0 * 0.5 / wheel_base);
+    config_.limits.max_accel = sl_params::read<double>(pnh, "max_accel", 1.0);
+    config_.limits.max_angular_accel = sl_params::read<double>(pnh, "max_angular_accel", 6.0);
 
-    config_.cmd_vel_timeout = param<double>(pnh, "cmd_vel_timeout", 0.5);
-    require(config_.cmd_vel_timeout > 0.0, "~cmd_vel_timeout must be > 0");
-    config_.cmd_vel_preempts_goal = param<bool>(pnh, "cmd_vel_preempts_goal", true);
-    config_.use_wait_distance = param<bool>(pnh, "use_wait_distance", false);
-    require(!config_.use_wait_distance || config_.model == Model::CREATE_1,
-            "~use_wait_distance needs ~model create_1 (the Create 2 has no Wait Distance)");
-    config_.command_refresh = param<double>(pnh, "command_refresh", 0.2);
-    require(config_.command_refresh > 0.0, "~command_refresh must be > 0");
+    config_.cmd_vel_timeout = sl_params::read<double>(pnh, "cmd_vel_timeout", 0.5);
+    config_.cmd_vel_preempts_goal = sl_params::read<bool>(pnh, "cmd_vel_preempts_goal", true);
+    config_.use_wait_distance = sl_params::read<bool>(pnh, "use_wait_distance", false);
+    config_.command_refresh = sl_params::read<double>(pnh, "command_refresh", 0.2);
 
     DriveDistanceParams& d = config_.drive_distance;
     d.max_speed = config_.limits.max_speed;
-    d.min_speed = param<double>(pnh, "drive_distance/min_speed", 0.01);
-    require(d.min_speed > 0.0 && d.min_speed <= d.max_speed, "~drive_distance/min_speed must be in (0, ~max_speed]");
-    d.decel = param<double>(pnh, "drive_distance/decel", 0.25);
-    require(d.decel > 0.0, "~drive_distance/decel must be > 0");
-    d.tolerance = param<double>(pnh, "drive_distance/tolerance", 0.001);
-    require(d.tolerance >= 0.0 && d.tolerance <= 0.05, "~drive_distance/tolerance must be in [0, 0.05] m");
-    d.latency = param<double>(pnh, "drive_distance/latency", 0.03);
-    require(d.latency >= 0.0 && d.latency <= 1.0, "~drive_distance/latency must be in [0, 1] s");
-    d.stall_timeout = param<double>(pnh, "drive_distance/stall_timeout", 3.0);
-    require(d.stall_timeout > 0.0, "~drive_distance/stall_timeout must be > 0");
-    d.heading_gain = param<double>(pnh, "drive_distance/heading_gain", 1.0);
-    require(d.heading_gain >= 0.0, "~drive_distance/heading_gain must be >= 0");
-    d.max_heading_rate = param<double>(pnh, "drive_distance/max_heading_rate", 0.3);
-    require(d.max_heading_rate >= 0.0, "~drive_distance/max_heading_rate must be >= 0");
+    d.min_speed = sl_params::read<double>(pnh, "drive_distance/min_speed", 0.01);
+    d.decel = sl_params::read<double>(pnh, "drive_distance/decel", 0.25);
+    d.tolerance = sl_params::read<double>(pnh, "drive_distance/tolerance", 0.001);
+    d.latency = sl_params::read<double>(pnh, "drive_distance/latency", 0.03);
+    d.stall_timeout = sl_params::read<double>(pnh, "drive_distance/stall_timeout", 3.0);
+    d.heading_gain = sl_params::read<double>(pnh, "drive_distance/heading_gain", 1.0);
+    d.max_heading_rate = sl_params::read<double>(pnh, "drive_distance/max_heading_rate", 0.3);
 
-    odom_frame_ = param<std::string>(pnh, "odom_frame", "odom");
-    base_frame_ = param<std::string>(pnh, "base_frame", "base_link");
+    odom_frame_ = sl_params::read<std::string>(pnh, "odom_frame", "odom");
+    base_frame_ = sl_params::read<std::string>(pnh, "base_frame", "base_link");
     require(!odom_frame_.empty() && !base_frame_.empty() && odom_frame_ != base_frame_,
             "~odom_frame and ~base_frame must be non-empty and different");
-    publish_tf_ = param<bool>(pnh, "publish_tf", true);
+    publish_tf_ = sl_params::read<bool>(pnh, "publish_tf", true);
 
-    link_params_.link.initial_backoff = param<double>(pnh, "reconnect_initial_delay", 0.25);
-    require(link_params_.link.initial_backoff > 0.0, "~reconnect_initial_delay must be > 0");
-    link_params_.link.max_backoff = param<double>(pnh, "reconnect_max_delay", 4.0);
-    require(link_params_.link.max_backoff >= link_params_.link.initial_backoff,
-            "~reconnect_max_delay must be >= ~reconnect_initial_delay");
-    link_params_.link.frame_timeout = param<double>(pnh, "link_timeout", 1.0);
-    require(link_params_.link.frame_timeout > 0.05, "~link_timeout must be > 0.05 s");
-    link_params_.link.start_timeout = param<double>(pnh, "start_timeout", 3.0);
-    require(link_params_.link.start_timeout > 0.1, "~start_timeout must be > 0.1 s");
-    link_params_.tick_period = param<double>(pnh, "control_period", 0.01);
-    require(link_params_.tick_period >= 0.001 && link_params_.tick_period <= 0.1,
-            "~control_period must be in [0.001, 0.1] s");
+    link_params_.link.initial_backoff = sl_params::read<double>(pnh, "reconnect_initial_delay", 0.25);
+    link_params_.link.max_backoff = sl_params::read<double>(pnh, "reconnect_max_delay", 4.0);
+    link_params_.link.frame_timeout = sl_params::read<double>(pnh, "link_timeout", 1.0);
+    link_params_.link.start_timeout = sl_params::read<double>(pnh, "start_timeout", 3.0);
+    link_params_.tick_period = sl_params::read<double>(pnh, "control_period", 0.01);
 
-    const std::string problem = validateConfig(config_);
-    require(problem.empty(), "invalid parameters: " + problem);
+    try
+    {
+      validateConfig(config_);
+      link_params_.validate();
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw std::invalid_argument(std::string("~") + e.what());
+    }
   }
 
   // ---- ROS callbacks -----------------------------------------------------------------------

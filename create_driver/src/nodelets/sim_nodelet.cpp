@@ -23,22 +23,12 @@
 #include "create_driver/pty.h"
 #include "create_driver/serial_link.h"
 #include "create_driver/sim_robot.h"
+#include "sl_params/params.h"
 
 namespace create_driver
 {
 namespace
 {
-template <typename T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
-{
-  if (!pnh.hasParam(name))
-    return fallback;
-  T value;
-  if (!pnh.getParam(name, value))
-    throw std::invalid_argument("~" + name + " has the wrong type");
-  return value;
-}
-
 void require(bool ok, const std::string& message)
 {
   if (!ok)
@@ -66,48 +56,48 @@ private:
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     SimParams p;
-    const std::string model = param<std::string>(pnh, "model", "create_1");
+    const std::string model = sl_params::read<std::string>(pnh, "model", "create_1");
     if (model == "create_1" || model == "create")
       p.model = Model::CREATE_1;
     else if (model == "create_2" || model == "roomba_600")
       p.model = Model::CREATE_2;
     else
       throw std::invalid_argument("~model must be create_1 or create_2 (got '" + model + "')");
-    p.wheel_base = param<double>(pnh, "wheel_base", defaultWheelBase(p.model));
+    p.wheel_base = sl_params::read<double>(pnh, "wheel_base", defaultWheelBase(p.model));
     require(p.wheel_base > 0.05 && p.wheel_base < 1.0, "~wheel_base must be in (0.05, 1) m");
-    p.initial_pose.x = param<double>(pnh, "x", 0.0);
-    p.initial_pose.y = param<double>(pnh, "y", 0.0);
-    p.initial_pose.yaw = param<double>(pnh, "yaw", 0.0);
+    p.initial_pose.x = sl_params::read<double>(pnh, "x", 0.0);
+    p.initial_pose.y = sl_params::read<double>(pnh, "y", 0.0);
+    p.initial_pose.yaw = sl_params::read<double>(pnh, "yaw", 0.0);
     require(std::isfinite(p.initial_pose.x) && std::isfinite(p.initial_pose.y) && std::isfinite(p.initial_pose.yaw),
             "~x, ~y and ~yaw must be finite");
-    p.max_wheel_accel = param<double>(pnh, "max_wheel_accel", 0.0);
+    p.max_wheel_accel = sl_params::read<double>(pnh, "max_wheel_accel", 0.0);
     require(p.max_wheel_accel >= 0.0, "~max_wheel_accel must be >= 0 (0 = instant)");
-    p.slip_left = param<double>(pnh, "slip_left", 0.0);
+    p.slip_left = sl_params::read<double>(pnh, "slip_left", 0.0);
     require(p.slip_left >= 0.0 && p.slip_left < 1.0, "~slip_left must be in [0, 1)");
-    p.slip_right = param<double>(pnh, "slip_right", 0.0);
+    p.slip_right = sl_params::read<double>(pnh, "slip_right", 0.0);
     require(p.slip_right >= 0.0 && p.slip_right < 1.0, "~slip_right must be in [0, 1)");
-    p.slip_noise = param<double>(pnh, "slip_noise", 0.0);
+    p.slip_noise = sl_params::read<double>(pnh, "slip_noise", 0.0);
     require(p.slip_noise >= 0.0 && p.slip_noise < 1.0, "~slip_noise must be in [0, 1)");
-    p.odom_noise = param<double>(pnh, "odom_noise", 0.0);
+    p.odom_noise = sl_params::read<double>(pnh, "odom_noise", 0.0);
     require(p.odom_noise >= 0.0 && p.odom_noise < 1.0, "~odom_noise must be in [0, 1)");
-    const int seed = param<int>(pnh, "seed", 1);
+    const int seed = sl_params::read<int>(pnh, "seed", 1);
     require(seed >= 0, "~seed must be >= 0");
     p.seed = static_cast<uint32_t>(seed);
-    p.block_on_contact = param<bool>(pnh, "block_on_contact", true);
+    p.block_on_contact = sl_params::read<bool>(pnh, "block_on_contact", true);
 
-    rate_ = param<double>(pnh, "rate", 200.0);
+    rate_ = sl_params::read<double>(pnh, "rate", 200.0);
     require(rate_ >= 50.0 && rate_ <= 2000.0, "~rate must be in [50, 2000] Hz");
-    publish_rate_ = param<double>(pnh, "publish_rate", 50.0);
+    publish_rate_ = sl_params::read<double>(pnh, "publish_rate", 50.0);
     require(publish_rate_ > 0.0 && publish_rate_ <= rate_, "~publish_rate must be in (0, ~rate] Hz");
-    world_frame_ = param<std::string>(pnh, "world_frame", "world");
-    robot_frame_ = param<std::string>(pnh, "robot_frame", "base_footprint_true");
+    world_frame_ = sl_params::read<std::string>(pnh, "world_frame", "world");
+    robot_frame_ = sl_params::read<std::string>(pnh, "robot_frame", "base_footprint_true");
     require(!world_frame_.empty() && !robot_frame_.empty() && world_frame_ != robot_frame_,
             "~world_frame and ~robot_frame must be non-empty and different");
-    link_path_ = param<std::string>(pnh, "link", "");
-    const int garbage = param<int>(pnh, "garbage_bytes", 32);
+    link_path_ = sl_params::read<std::string>(pnh, "link", "");
+    const int garbage = sl_params::read<int>(pnh, "garbage_bytes", 32);
     require(garbage > 0 && garbage <= 4096, "~garbage_bytes must be in [1, 4096]");
     garbage_bytes_ = static_cast<size_t>(garbage);
-    reopen_delay_ = param<double>(pnh, "reopen_delay", 0.5);
+    reopen_delay_ = sl_params::read<double>(pnh, "reopen_delay", 0.5);
     require(reopen_delay_ >= 0.0 && reopen_delay_ <= 60.0, "~reopen_delay must be in [0, 60] s");
 
     robot_ = std::make_unique<SimRobot>(p);

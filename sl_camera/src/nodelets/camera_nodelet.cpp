@@ -28,6 +28,7 @@
 #include "sl_camera/camera/start_gate.h"
 #include "sl_camera/camera/unreadable_files.h"
 #include "sl_projector/rig.h"
+#include "sl_params/params.h"
 
 namespace sl_camera
 {
@@ -45,14 +46,6 @@ struct Params
   bool player_ignores_settings = false;  ///< width/height/exposure/gain were set (not default) for the player
   bool offsets_ignored = false;          ///< offset_x/offset_y set for a back-end without region offsets
 };
-
-template <typename T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
-{
-  T value;
-  pnh.param(name, value, fallback);
-  return value;
-}
 
 /// `device` may be given as a number in a launch file ("0" becomes an int parameter).
 std::string deviceParam(const ros::NodeHandle& pnh)
@@ -105,26 +98,26 @@ Params readParams(const ros::NodeHandle& pnh)
   CameraConfig& c = p.camera;
   try
   {
-    c.backend = parseCameraBackend(param<std::string>(pnh, "backend", "v4l2"));
+    c.backend = parseCameraBackend(sl_params::read<std::string>(pnh, "backend", "v4l2"));
   }
   catch (const std::invalid_argument& e)
   {
     throw std::invalid_argument(std::string("~") + e.what());
   }
   c.device = deviceParam(pnh);
-  c.settings.width = param(pnh, "width", c.settings.width);
-  c.settings.height = param(pnh, "height", c.settings.height);
-  c.settings.rate = param(pnh, "rate", c.settings.rate);
-  c.settings.exposure = param(pnh, "exposure", c.settings.exposure);
-  c.settings.gain = param(pnh, "gain", c.settings.gain);
-  c.loop = param(pnh, "loop", c.loop);
-  c.settings.offset_x = param(pnh, "offset_x", c.settings.offset_x);
-  c.settings.offset_y = param(pnh, "offset_y", c.settings.offset_y);
-  c.reconnect_max_backoff = param(pnh, "reconnect_max_backoff", c.reconnect_max_backoff);
-  c.stall_timeout = param(pnh, "stall_timeout", c.stall_timeout);
+  c.settings.width = sl_params::read(pnh, "width", c.settings.width);
+  c.settings.height = sl_params::read(pnh, "height", c.settings.height);
+  c.settings.rate = sl_params::read(pnh, "rate", c.settings.rate);
+  c.settings.exposure = sl_params::read(pnh, "exposure", c.settings.exposure);
+  c.settings.gain = sl_params::read(pnh, "gain", c.settings.gain);
+  c.loop = sl_params::read(pnh, "loop", c.loop);
+  c.settings.offset_x = sl_params::read(pnh, "offset_x", c.settings.offset_x);
+  c.settings.offset_y = sl_params::read(pnh, "offset_y", c.settings.offset_y);
+  c.reconnect_max_backoff = sl_params::read(pnh, "reconnect_max_backoff", c.reconnect_max_backoff);
+  c.stall_timeout = sl_params::read(pnh, "stall_timeout", c.stall_timeout);
   try
   {
-    c.aravis.packet_socket = parsePacketSocketMode(param<std::string>(pnh, "packet_socket", "auto"));
+    c.aravis.packet_socket = parsePacketSocketMode(sl_params::read<std::string>(pnh, "packet_socket", "auto"));
   }
   catch (const std::invalid_argument& e)
   {
@@ -132,7 +125,7 @@ Params readParams(const ros::NodeHandle& pnh)
   }
   c.aravis.socket_buffer = autoOrBytesParam(pnh, "socket_buffer");
   c.aravis.packet_size = autoOrBytesParam(pnh, "packet_size");
-  p.rig_file = param<std::string>(pnh, "rig_file", "");
+  p.rig_file = sl_params::read<std::string>(pnh, "rig_file", "");
   try
   {
     c.validate();
@@ -161,16 +154,16 @@ Params readParams(const ros::NodeHandle& pnh)
                               (c.settings.width != 0 || c.settings.height != 0 || c.settings.exposure > 0.0 ||
                                c.settings.gain >= 0.0);
 
-  p.frame_id = param(pnh, "frame_id", p.frame_id);
+  p.frame_id = sl_params::read(pnh, "frame_id", p.frame_id);
   if (p.frame_id.empty())
     throw std::invalid_argument("~frame_id must not be empty");
-  p.camera_name = param(pnh, "camera_name", p.camera_name);
+  p.camera_name = sl_params::read(pnh, "camera_name", p.camera_name);
   if (p.camera_name.empty())
     throw std::invalid_argument("~camera_name must not be empty");
   for (char ch : p.camera_name)
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
       throw std::invalid_argument("~camera_name must contain only letters, digits and '_', got '" + p.camera_name + "'");
-  p.camera_info_url = param(pnh, "camera_info_url", p.camera_info_url);
+  p.camera_info_url = sl_params::read(pnh, "camera_info_url", p.camera_info_url);
   const std::string& url = p.camera_info_url;
   if (!url.empty() && url.rfind("file://", 0) != 0 && url.rfind("package://", 0) != 0)
     throw std::invalid_argument("~camera_info_url must be empty, file:///path.yaml or package://pkg/path.yaml, got '" +

@@ -23,6 +23,7 @@
 
 #include "sl_decoder/calibration/full_calibration.h"
 #include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_params/params.h"
 
 namespace sl_decoder
 {
@@ -59,7 +60,7 @@ struct CalibrationParams
 CalibrationParams readParams(const ros::NodeHandle& pnh)
 {
   CalibrationParams p;
-  pnh.param("mode", p.mode, p.mode);
+  sl_params::readIfSet(pnh, "mode", p.mode);
   if (p.mode != "plane" && p.mode != "full")
     throw std::invalid_argument("~mode: must be 'plane' or 'full', got '" + p.mode + "'");
   if (!pnh.getParam("calibration_file", p.calibration_file) || p.calibration_file.empty())
@@ -75,30 +76,30 @@ CalibrationParams readParams(const ros::NodeHandle& pnh)
   }
   if (!pnh.getParam("output_file", p.output_file) || p.output_file.empty())
     throw std::invalid_argument("~output_file: required (where the calibrated rig file is written)");
-  pnh.param("epipolar_tolerance", p.epipolar_tolerance, p.epipolar_tolerance);
+  sl_params::readIfSet(pnh, "epipolar_tolerance", p.epipolar_tolerance);
   if (!(p.epipolar_tolerance > 0.0 && p.epipolar_tolerance <= 50.0))
     throw std::invalid_argument("~epipolar_tolerance: must be in (0, 50] px");
-  pnh.param("capture_timeout", p.capture_timeout, p.capture_timeout);
+  sl_params::readIfSet(pnh, "capture_timeout", p.capture_timeout);
   if (!(p.capture_timeout > 0.0 && p.capture_timeout <= 600.0))
     throw std::invalid_argument("~capture_timeout: must be in (0, 600] s");
-  pnh.param("settle_time", p.settle_time, p.settle_time);
+  sl_params::readIfSet(pnh, "settle_time", p.settle_time);
   if (!(p.settle_time >= 0.0 && p.settle_time <= 60.0))
     throw std::invalid_argument("~settle_time: must be in [0, 60] s");
-  pnh.param("frames_per_capture", p.frames_per_capture, p.frames_per_capture);
+  sl_params::readIfSet(pnh, "frames_per_capture", p.frames_per_capture);
   if (p.frames_per_capture < 1 || p.frames_per_capture > 100)
     throw std::invalid_argument("~frames_per_capture: must be 1..100");
-  pnh.param("auto_calibrate", p.auto_calibrate, p.auto_calibrate);
+  sl_params::readIfSet(pnh, "auto_calibrate", p.auto_calibrate);
 
-  pnh.param("distances", p.distances, p.distances);
+  sl_params::readIfSet(pnh, "distances", p.distances);
   for (double d : p.distances)
     if (!(d > 0.0 && d < 20.0))
       throw std::invalid_argument("~distances: every distance must be in (0, 20) m, got " + std::to_string(d));
   std::string reference = "camera", normal = "robot";
-  pnh.param("reference", reference, reference);
-  pnh.param("normal", normal, normal);
-  pnh.param("min_distances", p.plane.min_distances, p.plane.min_distances);
-  pnh.param("max_rms", p.plane.max_rational_rms, p.plane.max_rational_rms);
-  pnh.param("residuals_file", p.residuals_file, p.residuals_file);
+  sl_params::readIfSet(pnh, "reference", reference);
+  sl_params::readIfSet(pnh, "normal", normal);
+  sl_params::readIfSet(pnh, "min_distances", p.plane.min_distances);
+  sl_params::readIfSet(pnh, "max_rms", p.plane.max_rational_rms);
+  sl_params::readIfSet(pnh, "residuals_file", p.residuals_file);
   try
   {
     p.plane.reference = parseDistanceReference(reference);
@@ -110,8 +111,8 @@ CalibrationParams readParams(const ros::NodeHandle& pnh)
     throw std::invalid_argument(std::string("~reference / ~normal / ~min_distances / ~max_rms: ") + e.what());
   }
 
-  pnh.param("board_size", p.board_size, p.board_size);
-  pnh.param("square", p.square, p.square);
+  sl_params::readIfSet(pnh, "board_size", p.board_size);
+  sl_params::readIfSet(pnh, "square", p.square);
   try
   {
     p.board = parseBoardSize(p.board_size, p.square);
@@ -120,11 +121,11 @@ CalibrationParams readParams(const ros::NodeHandle& pnh)
   {
     throw std::invalid_argument(std::string("~board_size / ~square: ") + e.what());
   }
-  pnh.param("min_poses", p.min_poses, p.min_poses);
+  sl_params::readIfSet(pnh, "min_poses", p.min_poses);
   if (p.min_poses < 3)
     throw std::invalid_argument("~min_poses: must be >= 3");
-  pnh.param("camera_info_file", p.camera_info_file, p.camera_info_file);
-  pnh.param("camera_info_output", p.camera_info_output, p.camera_info_output);
+  sl_params::readIfSet(pnh, "camera_info_file", p.camera_info_file);
+  sl_params::readIfSet(pnh, "camera_info_output", p.camera_info_output);
   return p;
 }
 }  // namespace

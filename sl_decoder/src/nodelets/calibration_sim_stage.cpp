@@ -15,6 +15,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "sl_decoder/calibration/simulation.h"
+#include "sl_params/params.h"
 
 namespace sl_decoder
 {
@@ -42,15 +43,15 @@ private:
       if (!pnh.getParam("scene_file", scene_file) || scene_file.empty())
         throw std::invalid_argument("~scene_file: required (a scene with a plane named 'wall', e.g. calib_wall.yaml)");
       scene_ = sl_camera::loadScene(scene_file);
-      pnh.param("reference", reference, reference);
+      sl_params::readIfSet(pnh, "reference", reference);
       options_.reference = calibration::parseDistanceReference(reference);
-      pnh.param("robot_radius", robot_radius_, robot_radius_);
+      sl_params::readIfSet(pnh, "robot_radius", robot_radius_);
       if (!(robot_radius_ >= 0.0 && robot_radius_ < 2.0))
         throw std::invalid_argument("~robot_radius: must be in [0, 2) m");
-      pnh.param("world_frame", world_frame_, world_frame_);
-      pnh.param("robot_frame", robot_frame_, robot_frame_);
-      pnh.param("initial_distance", distance_, distance_);
-      pnh.param("rate", rate, rate);
+      sl_params::readIfSet(pnh, "world_frame", world_frame_);
+      sl_params::readIfSet(pnh, "robot_frame", robot_frame_);
+      sl_params::readIfSet(pnh, "initial_distance", distance_);
+      sl_params::readIfSet(pnh, "rate", rate);
       if (!(rate > 0.0 && rate <= 1000.0))
         throw std::invalid_argument("~rate: must be in (0, 1000] Hz");
       calibration::platformEdgeForDistance(rig_, scene_, distance_, options_);  // checks the scene

@@ -27,6 +27,7 @@
 #include "sl_decoder/DecoderParamsConfig.h"
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
+#include "sl_params/params.h"
 
 namespace sl_decoder
 {
@@ -47,24 +48,16 @@ struct NodeParams
   RayConfig ray;
 };
 
-template <typename T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
-{
-  T value;
-  pnh.param(name, value, fallback);
-  return value;
-}
-
 /// The ray classifier's parameters (~rays, ~min_albedo, ...), checked by RayConfig::validate().
 void readRayParams(const ros::NodeHandle& pnh, NodeParams& p)
 {
-  p.rays = param(pnh, "rays", p.rays);
+  p.rays = sl_params::read(pnh, "rays", p.rays);
   RayConfig& r = p.ray;
-  r.min_albedo = param(pnh, "min_albedo", r.min_albedo);
-  r.pattern_contrast_1m = param(pnh, "pattern_contrast_1m", r.pattern_contrast_1m);
-  r.light_fraction = param(pnh, "light_fraction", r.light_fraction);
-  r.noise_floor = param(pnh, "noise_floor", r.noise_floor);
-  r.max_range = param(pnh, "ray_max_range", r.max_range);
+  r.min_albedo = sl_params::read(pnh, "min_albedo", r.min_albedo);
+  r.pattern_contrast_1m = sl_params::read(pnh, "pattern_contrast_1m", r.pattern_contrast_1m);
+  r.light_fraction = sl_params::read(pnh, "light_fraction", r.light_fraction);
+  r.noise_floor = sl_params::read(pnh, "noise_floor", r.noise_floor);
+  r.max_range = sl_params::read(pnh, "ray_max_range", r.max_range);
   try
   {
     r.validate();
@@ -82,41 +75,41 @@ void readRayParams(const ros::NodeHandle& pnh, NodeParams& p)
 NodeParams readParams(const ros::NodeHandle& pnh)
 {
   NodeParams p;
-  p.calibration_file = param(pnh, "calibration_file", p.calibration_file);
+  p.calibration_file = sl_params::read(pnh, "calibration_file", p.calibration_file);
   if (p.calibration_file.empty())
     throw std::invalid_argument("~calibration_file is required (the rig file, e.g. sl_projector/config/default_rig.yaml)");
-  p.target_frame = param(pnh, "target_frame", p.target_frame);
+  p.target_frame = sl_params::read(pnh, "target_frame", p.target_frame);
   if (p.target_frame.empty())
     throw std::invalid_argument("~target_frame must not be empty");
-  p.camera_frame = param(pnh, "camera_frame", p.camera_frame);
-  p.tf_timeout = param(pnh, "tf_timeout", p.tf_timeout);
+  p.camera_frame = sl_params::read(pnh, "camera_frame", p.camera_frame);
+  p.tf_timeout = sl_params::read(pnh, "tf_timeout", p.tf_timeout);
   if (!std::isfinite(p.tf_timeout) || p.tf_timeout < 0.0 || p.tf_timeout > 5.0)
     throw std::invalid_argument("~tf_timeout must be in [0, 5] s");
-  p.organized = param(pnh, "organized", p.organized);
-  p.queue_size = param(pnh, "queue_size", p.queue_size);
+  p.organized = sl_params::read(pnh, "organized", p.organized);
+  p.queue_size = sl_params::read(pnh, "queue_size", p.queue_size);
   if (p.queue_size < 1)
     throw std::invalid_argument("~queue_size must be >= 1");
   DecoderConfig& d = p.decoder;
-  d.threshold_window = param(pnh, "threshold_window", d.threshold_window);
-  d.threshold_offset = param(pnh, "threshold_offset", d.threshold_offset);
-  d.min_area = param(pnh, "min_area", d.min_area);
-  d.max_area = param(pnh, "max_area", d.max_area);
-  d.max_aspect = param(pnh, "max_aspect", d.max_aspect);
-  d.min_fill = param(pnh, "min_fill", d.min_fill);
-  d.min_contrast = param(pnh, "min_contrast", d.min_contrast);
-  d.min_margin = param(pnh, "min_margin", d.min_margin);
-  d.min_correlation = param(pnh, "min_correlation", d.min_correlation);
-  d.neighbour_along_min = param(pnh, "neighbour_along_min", d.neighbour_along_min);
-  d.neighbour_along_max = param(pnh, "neighbour_along_max", d.neighbour_along_max);
-  d.neighbour_across = param(pnh, "neighbour_across", d.neighbour_across);
-  d.epipolar_tolerance = param(pnh, "epipolar_tolerance", d.epipolar_tolerance);
-  d.min_depth = param(pnh, "min_depth", d.min_depth);
-  d.max_depth = param(pnh, "max_depth", d.max_depth);
-  d.nominal_depth = param(pnh, "nominal_depth", d.nominal_depth);
-  d.min_support = param(pnh, "min_support", d.min_support);
-  d.min_confidence = param(pnh, "min_confidence", d.min_confidence);
-  d.split_merged = param(pnh, "split_merged", d.split_merged);
-  d.depth_mode = parseDepthMode(param(pnh, "depth_mode", std::string(depthModeName(d.depth_mode))));
+  d.threshold_window = sl_params::read(pnh, "threshold_window", d.threshold_window);
+  d.threshold_offset = sl_params::read(pnh, "threshold_offset", d.threshold_offset);
+  d.min_area = sl_params::read(pnh, "min_area", d.min_area);
+  d.max_area = sl_params::read(pnh, "max_area", d.max_area);
+  d.max_aspect = sl_params::read(pnh, "max_aspect", d.max_aspect);
+  d.min_fill = sl_params::read(pnh, "min_fill", d.min_fill);
+  d.min_contrast = sl_params::read(pnh, "min_contrast", d.min_contrast);
+  d.min_margin = sl_params::read(pnh, "min_margin", d.min_margin);
+  d.min_correlation = sl_params::read(pnh, "min_correlation", d.min_correlation);
+  d.neighbour_along_min = sl_params::read(pnh, "neighbour_along_min", d.neighbour_along_min);
+  d.neighbour_along_max = sl_params::read(pnh, "neighbour_along_max", d.neighbour_along_max);
+  d.neighbour_across = sl_params::read(pnh, "neighbour_across", d.neighbour_across);
+  d.epipolar_tolerance = sl_params::read(pnh, "epipolar_tolerance", d.epipolar_tolerance);
+  d.min_depth = sl_params::read(pnh, "min_depth", d.min_depth);
+  d.max_depth = sl_params::read(pnh, "max_depth", d.max_depth);
+  d.nominal_depth = sl_params::read(pnh, "nominal_depth", d.nominal_depth);
+  d.min_support = sl_params::read(pnh, "min_support", d.min_support);
+  d.min_confidence = sl_params::read(pnh, "min_confidence", d.min_confidence);
+  d.split_merged = sl_params::read(pnh, "split_merged", d.split_merged);
+  d.depth_mode = parseDepthMode(sl_params::read(pnh, "depth_mode", std::string(depthModeName(d.depth_mode))));
   try
   {
     d.validate();

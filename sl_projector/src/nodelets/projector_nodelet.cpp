@@ -17,6 +17,7 @@
 #include "device/projector_window.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/rig.h"
+#include "sl_params/params.h"
 
 namespace sl_projector
 {
@@ -40,30 +41,22 @@ struct Params
   int i2c_address = 0x1b;
 };
 
-template <typename T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback)
-{
-  T value;
-  pnh.param(name, value, fallback);
-  return value;
-}
-
 Params readParams(const ros::NodeHandle& pnh)
 {
   Params p;
   PatternConfig& c = p.pattern;
-  c.rows = param(pnh, "rows", c.rows);
-  c.cols = param(pnh, "columns", c.cols);
-  c.primitive_width = param(pnh, "primitive_width", c.primitive_width);
-  c.primitive_height = param(pnh, "primitive_height", c.primitive_height);
-  c.gap_x = param(pnh, "gap_x", c.gap_x);
-  c.gap_y = param(pnh, "gap_y", c.gap_y);
-  c.offset_x = param(pnh, "offset_x", c.offset_x);
-  c.offset_y = param(pnh, "offset_y", c.offset_y);
-  c.projector_width = param(pnh, "projector_width", c.projector_width);
-  c.projector_height = param(pnh, "projector_height", c.projector_height);
-  c.flip_x = param(pnh, "flip_x", c.flip_x);
-  c.flip_y = param(pnh, "flip_y", c.flip_y);
+  c.rows = sl_params::read(pnh, "rows", c.rows);
+  c.cols = sl_params::read(pnh, "columns", c.cols);
+  c.primitive_width = sl_params::read(pnh, "primitive_width", c.primitive_width);
+  c.primitive_height = sl_params::read(pnh, "primitive_height", c.primitive_height);
+  c.gap_x = sl_params::read(pnh, "gap_x", c.gap_x);
+  c.gap_y = sl_params::read(pnh, "gap_y", c.gap_y);
+  c.offset_x = sl_params::read(pnh, "offset_x", c.offset_x);
+  c.offset_y = sl_params::read(pnh, "offset_y", c.offset_y);
+  c.projector_width = sl_params::read(pnh, "projector_width", c.projector_width);
+  c.projector_height = sl_params::read(pnh, "projector_height", c.projector_height);
+  c.flip_x = sl_params::read(pnh, "flip_x", c.flip_x);
+  c.flip_y = sl_params::read(pnh, "flip_y", c.flip_y);
   try
   {
     c.validate();
@@ -76,12 +69,12 @@ Params readParams(const ros::NodeHandle& pnh)
       msg = "columns" + msg.substr(4);
     throw std::invalid_argument("~" + msg);
   }
-  p.frame_id = param(pnh, "frame_id", p.frame_id);
-  p.fx = param(pnh, "fx", p.fx);
-  p.fy = param(pnh, "fy", p.fy);
-  p.cx = param(pnh, "cx", (c.projector_width - 1) / 2.0);
-  p.cy = param(pnh, "cy", (c.projector_height - 1) / 2.0);
-  p.calibration_file = param(pnh, "calibration_file", p.calibration_file);
+  p.frame_id = sl_params::read(pnh, "frame_id", p.frame_id);
+  p.fx = sl_params::read(pnh, "fx", p.fx);
+  p.fy = sl_params::read(pnh, "fy", p.fy);
+  p.cx = sl_params::read(pnh, "cx", (c.projector_width - 1) / 2.0);
+  p.cy = sl_params::read(pnh, "cy", (c.projector_height - 1) / 2.0);
+  p.calibration_file = sl_params::read(pnh, "calibration_file", p.calibration_file);
   if (!p.calibration_file.empty())
   {
     // The rig file is the single source of the pattern and the projector intrinsics.
@@ -109,14 +102,14 @@ Params readParams(const ros::NodeHandle& pnh)
     throw std::invalid_argument("~cx and ~cy must be finite");
   if (p.frame_id.empty())
     throw std::invalid_argument("~frame_id must not be empty");
-  p.show_window = param(pnh, "show_window", p.show_window);
-  p.display = param(pnh, "display", p.display);
-  p.window_x = param(pnh, "window_x", p.window_x);
-  p.window_y = param(pnh, "window_y", p.window_y);
-  p.dlp_setup = param(pnh, "dlp_setup", p.dlp_setup);
-  p.i2c_dry_run = param(pnh, "i2c_dry_run", p.i2c_dry_run);
-  p.i2c_bus = param(pnh, "i2c_bus", p.i2c_bus);
-  p.i2c_address = param(pnh, "i2c_address", p.i2c_address);
+  p.show_window = sl_params::read(pnh, "show_window", p.show_window);
+  p.display = sl_params::read(pnh, "display", p.display);
+  p.window_x = sl_params::read(pnh, "window_x", p.window_x);
+  p.window_y = sl_params::read(pnh, "window_y", p.window_y);
+  p.dlp_setup = sl_params::read(pnh, "dlp_setup", p.dlp_setup);
+  p.i2c_dry_run = sl_params::read(pnh, "i2c_dry_run", p.i2c_dry_run);
+  p.i2c_bus = sl_params::read(pnh, "i2c_bus", p.i2c_bus);
+  p.i2c_address = sl_params::read(pnh, "i2c_address", p.i2c_address);
   if (p.i2c_address < 0x03 || p.i2c_address > 0x77)
     throw std::invalid_argument("~i2c_address must be a 7-bit device address in 0x03..0x77, got " +
                                 std::to_string(p.i2c_address));

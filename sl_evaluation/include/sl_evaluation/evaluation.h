@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "sl_decoder/decoder.h"
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
-#include "sl_decoder/decoder.h"
 
 namespace sl_evaluation
 {

@@ -91,7 +91,7 @@ def sim_robot():
           [0] + send(128, 131, 129, 5) + send(148, 1, 6) + step(100) + send(129, 10) + send(148, 1, 6) + step(100))
 
 
-# --- sl_projector / sl_camera: rig and scene files ---------------------------------------------
+# --- sl_projector / sl_sim: rig and scene files ---------------------------------------------
 
 SMALL_RIG = """format_version: 1
 # A 256 x 192 crop of the default camera (same lens): the middle of the default pattern.
@@ -154,7 +154,7 @@ def rigs():
 
 def scenes():
     for name in ("table_leg_20mm.yaml", "checkerboard_600.yaml", "three_planes.yaml", "shiny_bin_586.yaml"):
-        shutil.copy(os.path.join(ROOT, "sl_camera", "scenes", name), os.path.join(CORPUS, "scene_parser", name))
+        shutil.copy(os.path.join(ROOT, "sl_sim", "scenes", name), os.path.join(CORPUS, "scene_parser", name))
 
 
 # --- sl_decoder: image recipes (decoder_image_fuzz.cpp) ----------------------------------------

@@ -86,5 +86,5 @@ record() {
 
 # The wall: from when it is inside the working volume (0.8 m) to the stop; the leg: the whole approach.
 record wall_approach "$root/test/scenes/wall_1000.yaml" "s.nearest_distance < 0.78"
-record leg_approach "$(rospack find sl_camera)/scenes/table_leg_20mm.yaml" "s.command == ObstacleStatus.COMMAND_DRIVE"
+record leg_approach "$(rospack find sl_sim)/scenes/table_leg_20mm.yaml" "s.command == ObstacleStatus.COMMAND_DRIVE"
 echo "bags in $root/test/bags, expectations in $root/test/expectations"

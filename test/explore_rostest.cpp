@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include <sl_camera/scene.h>
+#include <sl_sim/scene.h>
 
 #include "sim_watch.h"
 
@@ -123,12 +123,12 @@ protected:
       const double a = k * M_PI / 90.0;
       for (double z = 0.02; z <= height_ + 1e-9; z += 0.03)
       {
-        sl_camera::Ray ray;
+        sl_sim::Ray ray;
         ray.origin = Eigen::Vector3d(base.position.x + radius_ * std::cos(yaw + a),
                                      base.position.y + radius_ * std::sin(yaw + a), z);
         ray.direction = ahead;
-        sl_camera::Hit hit;
-        if (sl_camera::intersectScene(scene_, ray, hit, 1e-6, 3.0) && !scene_.objects[hit.object].floor &&
+        sl_sim::Hit hit;
+        if (sl_sim::intersectScene(scene_, ray, hit, 1e-6, 3.0) && !scene_.objects[hit.object].floor &&
             hit.t < best)
         {
           best = hit.t;
@@ -148,11 +148,11 @@ protected:
       const double a = k * M_PI / 36.0;
       for (double z = 0.02; z <= 0.10; z += 0.04)
       {
-        sl_camera::Ray ray;
+        sl_sim::Ray ray;
         ray.origin = Eigen::Vector3d(base.position.x, base.position.y, z);
         ray.direction = Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
-        sl_camera::Hit hit;
-        if (sl_camera::intersectScene(scene_, ray, hit, 1e-6, 2.0) && !scene_.objects[hit.object].floor)
+        sl_sim::Hit hit;
+        if (sl_sim::intersectScene(scene_, ray, hit, 1e-6, 2.0) && !scene_.objects[hit.object].floor)
           best = std::min(best, hit.t - radius_);
       }
     }
@@ -161,7 +161,7 @@ protected:
 
   static constexpr double kCell = 0.05;
   std::set<long> covered_;
-  sl_camera::Scene scene_;
+  sl_sim::Scene scene_;
   double radius_ = 0.1675, height_ = 0.173, clearance_ = 0.40;
   double path_ = 0.0;
   double nearest_ = std::numeric_limits<double>::infinity();
@@ -188,7 +188,7 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   const double tolerance = privateParam("tolerance", 0.010);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    scene_ = sl_camera::loadScene(scene_file);
+    scene_ = sl_sim::loadScene(scene_file);
     radius_ = privateParam("robot_radius", radius_);
     height_ = privateParam("height", height_);
     clearance_ = privateParam("clearance", clearance_);

@@ -1,5 +1,5 @@
 // The room scene for a minute (room.test): the whole system runs the simulated Create in
-// sl_camera/scenes/room.yaml. It must never touch anything (camera simulator's contact signal,
+// sl_sim/scenes/room.yaml. It must never touch anything (camera simulator's contact signal,
 // the Create's bumpers), and it must really do its job meanwhile: drive, stop before an
 // obstacle (BLOCKED), turn away and drive on (a goal of at least 0.1 m after a turn), or say that
 // no direction is free (NO_FREE_DIRECTION). Meanwhile the pipeline keeps up, counted in messages

@@ -1,15 +1,13 @@
 # Calibration: plane calibration (per-primitive linear and rational depth tables) and full
 # projector-camera calibration (camera from checkerboards, projector as an inverse camera), their
-# command-line tools, the live calibration nodelet and the tests. Included by ../CMakeLists.txt after
-# sl_decoder_core and sl_decoder_eval exist.
+# command-line tools and the live calibration nodelet. Included by ../CMakeLists.txt after
+# sl_decoder_core exists. Calibration in simulation (sl_calibrate_sim, the calibration_sim_stage
+# nodelet) and the calibration tests, which render, are in sl_evaluation.
 #
-#   sl_calibration_core       ROS-free library (OpenCV calib3d, Eigen, yaml-cpp, the sl_camera renderer
-#                             for the simulation helpers)
+#   sl_calibration_core       ROS-free library (OpenCV calib3d, Eigen, yaml-cpp)
 #   sl_calibrate_plane        plane calibration from images, folders or bags with known distances
 #   sl_calibrate_full         full calibration from checkerboard and pattern images
-#   sl_calibrate_sim          renders the calibration views in simulation, evaluates a calibration
-#   sl_calibration_nodelets   nodelets sl_decoder/calibration (live procedure) and
-#                             sl_decoder/calibration_sim_stage (moves the simulated robot to a distance)
+#   sl_calibration_nodelets   nodelet sl_decoder/calibration (live procedure)
 #   calibration_node          loads the calibration nodelet
 
 find_package(PkgConfig REQUIRED)
@@ -26,11 +24,10 @@ add_library(sl_calibration_core
   src/calibration/camera_calibration.cpp
   src/calibration/projector_calibration.cpp
   src/calibration/full_calibration.cpp
-  src/calibration/simulation.cpp
 )
 target_include_directories(sl_calibration_core PUBLIC include ${OpenCV_INCLUDE_DIRS} ${EIGEN3_INCLUDE_DIRS}
   PRIVATE ${SL_CALIBRATION_YAML_INCLUDE_DIRS})
-target_link_libraries(sl_calibration_core sl_decoder_eval sl_decoder_core opencv_calib3d ${OpenCV_LIBS}
+target_link_libraries(sl_calibration_core sl_decoder_core opencv_calib3d ${OpenCV_LIBS}
   ${SL_CALIBRATION_YAML_LIBRARIES})
 
 # Command-line tools (no ROS master needed).
@@ -45,11 +42,9 @@ else()
 endif()
 add_executable(sl_calibrate_full src/tools/sl_calibrate_full.cpp)
 target_link_libraries(sl_calibrate_full sl_calibration_core)
-add_executable(sl_calibrate_sim src/tools/sl_calibrate_sim.cpp)
-target_link_libraries(sl_calibrate_sim sl_calibration_core)
 
-# Live procedure: the calibration nodelet, its node, and the simulation stage nodelet.
-add_library(sl_calibration_nodelets src/nodelets/calibration_nodelet.cpp src/nodelets/calibration_sim_stage.cpp)
+# Live procedure: the calibration nodelet and its node.
+add_library(sl_calibration_nodelets src/nodelets/calibration_nodelet.cpp)
 target_include_directories(sl_calibration_nodelets PRIVATE ${catkin_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
   ${std_msgs_INCLUDE_DIRS})
 target_link_libraries(sl_calibration_nodelets sl_calibration_core ${catkin_LIBRARIES})
@@ -61,28 +56,5 @@ install(TARGETS sl_calibration_core sl_calibration_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
-install(TARGETS sl_calibrate_plane sl_calibrate_full sl_calibrate_sim calibration_node
+install(TARGETS sl_calibrate_plane sl_calibrate_full calibration_node
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-
-# gtest files of the package's one gtest binary (sl_decoder_test).
-list(APPEND SL_DECODER_TEST_SOURCES
-  test/calibration_plane_test.cpp
-  test/calibration_full_test.cpp
-  test/calibration_io_test.cpp
-)
-list(APPEND SL_DECODER_TEST_LIBRARIES sl_calibration_core)
-
-# Called by ../CMakeLists.txt with CATKIN_ENABLE_TESTING, after sl_decoder_test exists: the tool
-# paths for the gtests, and the rostest of the live procedure in simulation.
-function(sl_decoder_calibration_tests)
-  # The tool tests run the tools built here.
-  add_dependencies(sl_decoder_test sl_calibrate_plane sl_calibrate_full sl_calibrate_sim)
-  target_compile_definitions(sl_decoder_test PRIVATE
-    SL_CALIBRATE_PLANE_BIN="$<TARGET_FILE:sl_calibrate_plane>"
-    SL_CALIBRATE_FULL_BIN="$<TARGET_FILE:sl_calibrate_full>"
-    SL_CALIBRATE_SIM_BIN="$<TARGET_FILE:sl_calibrate_sim>")
-  add_rostest_gtest(calibration_live_rostest test/calibration_live.test test/calibration_live_rostest.cpp)
-  target_include_directories(calibration_live_rostest PRIVATE ${catkin_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS})
-  target_link_libraries(calibration_live_rostest ${catkin_LIBRARIES})
-  add_dependencies(calibration_live_rostest calibration_node sl_calibration_nodelets sl_decoder_nodelets)
-endfunction()

@@ -1,0 +1,137 @@
+// Decoder speed on rendered 752 x 480 frames, per stage and in total, on one core; also decode plus
+// the per-ray outcomes (RayClassifier), and the decode against one labelling pass (ratio).
+//   rosrun sl_evaluation sl_decoder_benchmark --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
+#include <stdexcept>
+#include <string>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <chrono>
+#include <vector>
+
+#include "sl_evaluation/evaluation.h"
+#include "sl_decoder/ray_classifier.h"
+
+namespace
+{
+/// Decodes a rendered frame of the scene per iteration; with @p rays also classifies every
+/// primitive's ray (RayClassifier), the cost of the nodelet's `ray_ends`.
+/// The frame of the scene found by @p parts, rendered with @p decoder's pattern (noise seed 7).
+sl_sim::RenderOutput renderScene(const sl_projector::Rig& rig, const sl_decoder::Decoder& decoder,
+                                    const std::vector<std::string>& parts)
+{
+  const sl_sim::Scene scene = sl_sim::loadScene(sl_evaluation::findScene(parts));
+  sl_sim::Renderer renderer(rig);
+  sl_sim::RenderOutput frame;
+  renderer.render(scene, decoder.pattern().render(), sl_sim::cameraPoseInWorld(rig), 7, frame);
+  return frame;
+}
+
+void decodeScene(benchmark::State& state, const std::vector<std::string>& parts, bool rays = false)
+{
+  cv::setNumThreads(1);
+  const sl_projector::Rig rig = sl_projector::loadRig(sl_evaluation::defaultRigFile());
+  sl_decoder::Decoder decoder(rig);
+  const sl_sim::RenderOutput frame = renderScene(rig, decoder, parts);
+  sl_decoder::DecodeResult result;
+  sl_decoder::RayClassifier classifier(rig, decoder.config(), sl_decoder::RayConfig());
+  std::vector<sl_decoder::RayOutcome> outcomes;
+  decoder.decode(frame.image, result);  // warm-up: buffers reach their size
+  classifier.classify(frame.image, result, outcomes);
+  sl_decoder::StageTimes sum;
+  double rays_ms = 0.0;
+  for (auto _ : state)
+  {
+    decoder.decode(frame.image, result);
+    benchmark::DoNotOptimize(result.valid);
+    if (rays)
+    {
+      const auto start = std::chrono::steady_clock::now();
+      classifier.classify(frame.image, result, outcomes);
+      rays_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      benchmark::DoNotOptimize(outcomes.data());
+    }
+    const sl_decoder::StageTimes& t = result.times;
+    sum.detect += t.detect;
+    sum.classify += t.classify;
+    sum.candidates += t.candidates;
+    sum.neighbours += t.neighbours;
+    sum.correspond += t.correspond;
+    sum.depth += t.depth;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["detect_ms"] = sum.detect / n;
+  state.counters["classify_ms"] = sum.classify / n;
+  state.counters["candidates_ms"] = sum.candidates / n;
+  state.counters["neighbours_ms"] = sum.neighbours / n;
+  state.counters["correspond_ms"] = sum.correspond / n;
+  state.counters["depth_ms"] = sum.depth / n;
+  state.counters["points"] = result.valid;
+  if (rays)
+  {
+    state.counters["rays_ms"] = rays_ms / n;
+    state.counters["dark"] = classifier.lastCount(sl_decoder::RayState::Dark);
+    state.counters["lit"] = classifier.lastCount(sl_decoder::RayState::Lit);
+    state.counters["floor"] = classifier.lastCount(sl_decoder::RayState::Floor);
+  }
+}
+
+/// The decode of the 700 mm plane against one labelling pass on the same frame, in the same run:
+/// cv::connectedComponents (8-connected, Spaghetti) of its Otsu binarisation. Both are timed in every
+/// iteration, one after the other, so that a noisy machine slows both alike; ratio = decode / label.
+void BM_DecodeVsLabellingPlane700(benchmark::State& state)
+{
+  cv::setNumThreads(1);
+  const sl_projector::Rig rig = sl_projector::loadRig(sl_evaluation::defaultRigFile());
+  sl_decoder::Decoder decoder(rig);
+  const sl_sim::RenderOutput frame = renderScene(rig, decoder, { "plane_700" });
+  cv::Mat binary, labels;
+  cv::threshold(frame.image, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  sl_decoder::DecodeResult result;
+  decoder.decode(frame.image, result);
+  cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI);
+  double decode_ms = 0.0, label_ms = 0.0;
+  for (auto _ : state)
+  {
+    auto t0 = std::chrono::steady_clock::now();
+    decoder.decode(frame.image, result);
+    benchmark::DoNotOptimize(result.valid);
+    auto t1 = std::chrono::steady_clock::now();
+    const int n = cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI);
+    benchmark::DoNotOptimize(n);
+    auto t2 = std::chrono::steady_clock::now();
+    decode_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    label_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["decode_ms"] = decode_ms / n;
+  state.counters["label_ms"] = label_ms / n;
+  state.counters["ratio"] = decode_ms / label_ms;
+}
+
+void BM_DecodePlane700(benchmark::State& state)
+{
+  decodeScene(state, { "plane_700" });
+}
+void BM_DecodeRoomView(benchmark::State& state)
+{
+  decodeScene(state, { "room" });
+}
+void BM_DecodeAndRaysPlane700(benchmark::State& state)
+{
+  decodeScene(state, { "plane_700" }, true);
+}
+void BM_DecodeAndRaysRoomView(benchmark::State& state)
+{
+  decodeScene(state, { "room" }, true);
+}
+}  // namespace
+
+BENCHMARK(BM_DecodeVsLabellingPlane700)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodePlane700)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeRoomView)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeAndRaysPlane700)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeAndRaysRoomView)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

@@ -5,7 +5,8 @@
 #include <stdexcept>
 
 #include <dynamic_reconfigure/Config.h>
-#include <xmlrpcpp/XmlRpcValue.h>
+
+#include "sl_params/params.h"
 
 namespace sl_obstacle
 {
@@ -29,35 +30,36 @@ const Value* findByName(const std::vector<Value>& values, const std::string& nam
   return nullptr;
 }
 
-/// Fails unless the parameter server value of a reconfigurable parameter has the right type.
+/// Fails unless the parameter server value of a parameter has the right type (sl_params refuses a
+/// value of another type; the value itself is read afterwards, by the caller or __fromServer__).
 void checkType(const ros::NodeHandle& pnh, const std::string& name, const std::string& type)
 {
-  XmlRpc::XmlRpcValue value;
-  if (!pnh.getParam(name, value))
+  try
   {
-    return;
+    if (type == "double")
+    {
+      double v;
+      sl_params::readIfSet(pnh, name, v);
+    }
+    else if (type == "int")
+    {
+      int v;
+      sl_params::readIfSet(pnh, name, v);
+    }
+    else if (type == "bool")
+    {
+      bool v;
+      sl_params::readIfSet(pnh, name, v);
+    }
+    else
+    {
+      std::string v;
+      sl_params::readIfSet(pnh, name, v);
+    }
   }
-  const XmlRpc::XmlRpcValue::Type t = value.getType();
-  bool ok = false;
-  if (type == "double")
+  catch (const std::invalid_argument& e)
   {
-    ok = t == XmlRpc::XmlRpcValue::TypeDouble || t == XmlRpc::XmlRpcValue::TypeInt;
-  }
-  else if (type == "int")
-  {
-    ok = t == XmlRpc::XmlRpcValue::TypeInt;
-  }
-  else if (type == "bool")
-  {
-    ok = t == XmlRpc::XmlRpcValue::TypeBoolean;
-  }
-  else if (type == "str")
-  {
-    ok = t == XmlRpc::XmlRpcValue::TypeString;
-  }
-  if (!ok)
-  {
-    fail(name + " must be of type " + type);
+    throw std::invalid_argument(std::string("parameter ") + e.what());
   }
 }
 }  // namespace

@@ -408,7 +408,7 @@ TEST(CameraNode, SizeOtherThanTheRigsFailsAtStartNamingBothSizesAndTheFile)
   // Checked before any device is opened: /dev/null is never read.
   std::string out;
   const int status = run("rosrun sl_camera camera_node __name:=bad_size_camera _backend:=v4l2 _device:=/dev/null "
-                         "_width:=640 _height:=400 _rig_file:=" +
+                         "_width:=640 _height:=400 _calibration_file:=" +
                              g_rig_file,
                          out);
   EXPECT_NE(status, 0) << out;
@@ -424,9 +424,9 @@ int main(int argc, char** argv)
   ros::init(argc, argv, "camera_player_rostest");
   ros::NodeHandle pnh("~");
   if (!pnh.getParam("folder", g_folder) || g_folder.empty() || !pnh.getParam("early_folder", g_early_folder) ||
-      g_early_folder.empty() || !pnh.getParam("rig_file", g_rig_file) || g_rig_file.empty())
+      g_early_folder.empty() || !pnh.getParam("calibration_file", g_rig_file) || g_rig_file.empty())
   {
-    ROS_FATAL("~folder, ~early_folder and ~rig_file must be set");
+    ROS_FATAL("~folder, ~early_folder and ~calibration_file must be set");
     return 1;
   }
   ros::AsyncSpinner spinner(2);

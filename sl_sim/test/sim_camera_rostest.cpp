@@ -270,13 +270,15 @@ TEST(SimCameraNode, InvalidParametersFailNamingThem)
     std::string expected;
   };
   const std::vector<Case> cases = {
-    { "_scene_file:=" + scene, "~rig_file: required" },
-    { "_rig_file:=/no/such/rig.yaml _scene_file:=" + scene, "~rig_file: /no/such/rig.yaml: cannot open" },
-    { "_rig_file:=" + rig, "~scene_file: required" },
-    { "_rig_file:=" + rig + " _scene_file:=/no/such/scene.yaml", "~scene_file: /no/such/scene.yaml: cannot open" },
-    { "_rig_file:=" + rig + " _scene_file:=" + scene + " _antialias:=3", "~antialias: must be 1, 4 or 16" },
-    { "_rig_file:=" + rig + " _scene_file:=" + scene + " _rate:=0.0", "~rate" },
-    { "_rig_file:=" + rig + " _scene_file:=" + scene + " _robot_radius:=-1.0", "~robot_radius" },
+    { "_scene_file:=" + scene, "~calibration_file: required" },
+    { "_calibration_file:=/no/such/rig.yaml _scene_file:=" + scene, "~calibration_file: /no/such/rig.yaml: cannot open" },
+    { "_rig_file:=/no/such/rig.yaml _scene_file:=" + scene, "~calibration_file: /no/such/rig.yaml: cannot open" },
+    { "_calibration_file:=" + rig, "~scene_file: required" },
+    { "_calibration_file:=" + rig + " _scene_file:=/no/such/scene.yaml", "~scene_file: /no/such/scene.yaml: cannot open" },
+    { "_rig_file:=" + rig + " _scene_file:=/no/such/scene.yaml", "~rig_file is deprecated: use ~calibration_file" },
+    { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _antialias:=3", "~antialias: must be 1, 4 or 16" },
+    { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _rate:=0.0", "~rate" },
+    { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _robot_radius:=-1.0", "~robot_radius" },
   };
   int k = 0;
   for (const Case& c : cases)

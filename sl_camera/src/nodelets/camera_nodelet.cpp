@@ -125,7 +125,8 @@ Params readParams(const ros::NodeHandle& pnh)
   }
   c.aravis.socket_buffer = autoOrBytesParam(pnh, "socket_buffer");
   c.aravis.packet_size = autoOrBytesParam(pnh, "packet_size");
-  p.rig_file = sl_params::read<std::string>(pnh, "rig_file", "");
+  // One name for the rig file across the nodelets; ~rig_file is the deprecated former one.
+  sl_params::readIfSetRenamed(pnh, "calibration_file", "rig_file", p.rig_file);
   try
   {
     c.validate();
@@ -139,7 +140,7 @@ Params readParams(const ros::NodeHandle& pnh)
       }
       catch (const std::exception& e)
       {
-        throw std::invalid_argument(std::string("rig_file: ") + e.what());
+        throw std::invalid_argument(std::string("calibration_file: ") + e.what());
       }
       if (c.backend != CameraBackend::Player)
         c.applyRigSize(rig.camera.width, rig.camera.height, p.rig_file);

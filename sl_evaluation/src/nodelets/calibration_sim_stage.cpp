@@ -37,8 +37,8 @@ private:
     double rate = 20.0;
     try
     {
-      if (!pnh.getParam("rig_file", rig_file) || rig_file.empty())
-        throw std::invalid_argument("~rig_file: required (the simulator's rig file)");
+      if (!sl_params::readIfSetRenamed(pnh, "calibration_file", "rig_file", rig_file) || rig_file.empty())
+        throw std::invalid_argument("~calibration_file: required (the simulator's rig file)");
       rig_ = sl_projector::loadRig(rig_file);
       if (!pnh.getParam("scene_file", scene_file) || scene_file.empty())
         throw std::invalid_argument("~scene_file: required (a scene with a plane named 'wall', e.g. calib_wall.yaml)");

@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <ros/console.h>
 #include <ros/node_handle.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
@@ -158,6 +159,24 @@ bool readIfSet(const ros::NodeHandle& nh, const std::string& name, T& out)
     return false;
   if (!detail::convert(v, out))
     throw std::invalid_argument(displayName(nh, name) + " must be " + detail::refusal<T>(v));
+  return true;
+}
+
+/**
+ * @brief readIfSet() for a parameter that was renamed: @p name, or else its deprecated former name
+ * @p old_name (with a warning that names both).
+ * @return true when either is set.
+ * @throws std::invalid_argument naming the parameter read when its value has another type.
+ */
+template <typename T>
+bool readIfSetRenamed(const ros::NodeHandle& nh, const std::string& name, const std::string& old_name, T& out)
+{
+  if (readIfSet(nh, name, out))
+    return true;
+  if (!readIfSet(nh, old_name, out))
+    return false;
+  ROS_WARN("%s is deprecated: use %s (%s)", displayName(nh, old_name).c_str(), displayName(nh, name).c_str(),
+           nh.getNamespace().c_str());
   return true;
 }
 

@@ -54,15 +54,17 @@ struct SimParams
 SimParams readParams(const ros::NodeHandle& pnh)
 {
   SimParams p;
-  if (!pnh.getParam("rig_file", p.rig_file) || p.rig_file.empty())
-    throw std::invalid_argument("~rig_file: required (the rig file, e.g. $(find sl_projector)/config/default_rig.yaml)");
+  // One name for the rig file across the nodelets; ~rig_file is the deprecated former one.
+  if (!sl_params::readIfSetRenamed(pnh, "calibration_file", "rig_file", p.rig_file) || p.rig_file.empty())
+    throw std::invalid_argument(
+        "~calibration_file: required (the rig file, e.g. $(find sl_projector)/config/default_rig.yaml)");
   try
   {
     p.rig = sl_projector::loadRig(p.rig_file);
   }
   catch (const std::exception& e)
   {
-    throw std::invalid_argument(std::string("~rig_file: ") + e.what());
+    throw std::invalid_argument(std::string("~calibration_file: ") + e.what());
   }
   if (!pnh.getParam("scene_file", p.scene_file) || p.scene_file.empty())
     throw std::invalid_argument("~scene_file: required (a scene file, e.g. $(find sl_sim)/scenes/room.yaml)");

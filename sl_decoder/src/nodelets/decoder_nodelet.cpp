@@ -48,6 +48,28 @@ struct NodeParams
   RayConfig ray;
 };
 
+/// Copies the reconfigurable tunables (cfg/DecoderParams.cfg) into @p d: at start and on every
+/// reconfiguration, so the table and the decoder cannot drift apart.
+void applyTunables(const DecoderParamsConfig& c, DecoderConfig& d)
+{
+  d.threshold_window = c.threshold_window | 1;  // keep it odd
+  d.threshold_offset = c.threshold_offset;
+  d.min_area = c.min_area;
+  d.max_area = c.max_area;
+  d.max_aspect = c.max_aspect;
+  d.min_fill = c.min_fill;
+  d.min_contrast = c.min_contrast;
+  d.min_margin = c.min_margin;
+  d.min_correlation = c.min_correlation;
+  d.neighbour_along_min = c.neighbour_along_min;
+  d.neighbour_along_max = c.neighbour_along_max;
+  d.neighbour_across = c.neighbour_across;
+  d.epipolar_tolerance = c.epipolar_tolerance;
+  d.min_support = c.min_support;
+  d.min_confidence = c.min_confidence;
+  d.split_merged = c.split_merged;
+}
+
 /// The ray classifier's parameters (~rays, ~min_albedo, ...), checked by RayConfig::validate().
 void readRayParams(const ros::NodeHandle& pnh, NodeParams& p)
 {
@@ -90,25 +112,16 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   if (p.queue_size < 1)
     throw std::invalid_argument("~queue_size must be >= 1");
   DecoderConfig& d = p.decoder;
-  d.threshold_window = sl_params::read(pnh, "threshold_window", d.threshold_window);
-  d.threshold_offset = sl_params::read(pnh, "threshold_offset", d.threshold_offset);
-  d.min_area = sl_params::read(pnh, "min_area", d.min_area);
-  d.max_area = sl_params::read(pnh, "max_area", d.max_area);
-  d.max_aspect = sl_params::read(pnh, "max_aspect", d.max_aspect);
-  d.min_fill = sl_params::read(pnh, "min_fill", d.min_fill);
-  d.min_contrast = sl_params::read(pnh, "min_contrast", d.min_contrast);
-  d.min_margin = sl_params::read(pnh, "min_margin", d.min_margin);
-  d.min_correlation = sl_params::read(pnh, "min_correlation", d.min_correlation);
-  d.neighbour_along_min = sl_params::read(pnh, "neighbour_along_min", d.neighbour_along_min);
-  d.neighbour_along_max = sl_params::read(pnh, "neighbour_along_max", d.neighbour_along_max);
-  d.neighbour_across = sl_params::read(pnh, "neighbour_across", d.neighbour_across);
-  d.epipolar_tolerance = sl_params::read(pnh, "epipolar_tolerance", d.epipolar_tolerance);
   d.min_depth = sl_params::read(pnh, "min_depth", d.min_depth);
   d.max_depth = sl_params::read(pnh, "max_depth", d.max_depth);
   d.nominal_depth = sl_params::read(pnh, "nominal_depth", d.nominal_depth);
-  d.min_support = sl_params::read(pnh, "min_support", d.min_support);
-  d.min_confidence = sl_params::read(pnh, "min_confidence", d.min_confidence);
-  d.split_merged = sl_params::read(pnh, "split_merged", d.split_merged);
+  // The tunables: cfg/DecoderParams.cfg is their one table (defaults, ranges, descriptions).
+  DecoderParamsConfig tunables = DecoderParamsConfig::__getDefault__();
+  for (const auto& description : DecoderParamsConfig::__getParamDescriptions__())
+    sl_params::checkReconfigureType(pnh, description->name, description->type);
+  ros::NodeHandle server(pnh);
+  tunables.__fromServer__(server);
+  applyTunables(tunables, d);
   d.depth_mode = parseDepthMode(sl_params::read(pnh, "depth_mode", std::string(depthModeName(d.depth_mode))));
   try
   {
@@ -189,21 +202,7 @@ private:
       std::lock_guard<std::mutex> lock(decoder_mutex_);
       d = decoder_->config();
     }
-    d.threshold_window = c.threshold_window | 1;  // keep it odd
-    d.threshold_offset = c.threshold_offset;
-    d.min_area = c.min_area;
-    d.max_area = c.max_area;
-    d.max_aspect = c.max_aspect;
-    d.min_fill = c.min_fill;
-    d.min_contrast = c.min_contrast;
-    d.min_margin = c.min_margin;
-    d.min_correlation = c.min_correlation;
-    d.neighbour_along_min = c.neighbour_along_min;
-    d.neighbour_along_max = c.neighbour_along_max;
-    d.neighbour_across = c.neighbour_across;
-    d.epipolar_tolerance = c.epipolar_tolerance;
-    d.min_support = c.min_support;
-    d.min_confidence = c.min_confidence;
+    applyTunables(c, d);
     try
     {
       std::unique_ptr<Decoder> fresh(new Decoder(rig_, d));

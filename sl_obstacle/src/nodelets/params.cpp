@@ -30,32 +30,13 @@ const Value* findByName(const std::vector<Value>& values, const std::string& nam
   return nullptr;
 }
 
-/// Fails unless the parameter server value of a parameter has the right type (sl_params refuses a
-/// value of another type; the value itself is read afterwards, by the caller or __fromServer__).
+/// Fails unless the parameter server value of a parameter has the right type (the value itself is
+/// read afterwards, by the caller or __fromServer__).
 void checkType(const ros::NodeHandle& pnh, const std::string& name, const std::string& type)
 {
   try
   {
-    if (type == "double")
-    {
-      double v;
-      sl_params::readIfSet(pnh, name, v);
-    }
-    else if (type == "int")
-    {
-      int v;
-      sl_params::readIfSet(pnh, name, v);
-    }
-    else if (type == "bool")
-    {
-      bool v;
-      sl_params::readIfSet(pnh, name, v);
-    }
-    else
-    {
-      std::string v;
-      sl_params::readIfSet(pnh, name, v);
-    }
+    sl_params::checkReconfigureType(pnh, name, type);
   }
   catch (const std::invalid_argument& e)
   {

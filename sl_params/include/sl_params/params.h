@@ -230,4 +230,34 @@ T readInRange(const ros::NodeHandle& nh, const std::string& name, const T& fallb
   return value;
 }
 
+/**
+ * @brief Refuses a value of parameter @p name whose type is not @p cfg_type, a dynamic_reconfigure
+ * type name ("int", "double", "bool" or "str"): for parameters that a generated `...Config`
+ * reads with `__fromServer__`, which keeps the default on a wrong type without a word.
+ * @throws std::invalid_argument naming the parameter.
+ */
+inline void checkReconfigureType(const ros::NodeHandle& nh, const std::string& name, const std::string& cfg_type)
+{
+  if (cfg_type == "double")
+  {
+    double v;
+    readIfSet(nh, name, v);
+  }
+  else if (cfg_type == "int")
+  {
+    int v;
+    readIfSet(nh, name, v);
+  }
+  else if (cfg_type == "bool")
+  {
+    bool v;
+    readIfSet(nh, name, v);
+  }
+  else
+  {
+    std::string v;
+    readIfSet(nh, name, v);
+  }
+}
+
 }  // namespace sl_params

@@ -275,20 +275,21 @@ private:
     }
 
     const bool rays = params_.rays || rays_pub_.getNumSubscribers() > 0;
+    const bool points = points_pub_.getNumSubscribers() > 0;
+    Eigen::Isometry3d to_target;
+    const bool located = (points || rays) && lookupTarget(msg->header, to_target);
+    // The points first: the obstacle node's stop check runs on them and must not wait for the rays.
+    if (located && points)
+      publishCloud(msg->header, result, to_target);
     if (rays)
     {
       rays_->classify(mono, result, outcomes_);
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      last_rays_ = rays_->lastCounts();
-    }
-    const bool points = points_pub_.getNumSubscribers() > 0;
-    Eigen::Isometry3d to_target;
-    if ((points || rays) && lookupTarget(msg->header, to_target))
-    {
-      if (points)
-        publishCloud(msg->header, result, to_target);
-      if (rays)
-        publishRays(msg->header, to_target);  // right after points, same frame and stamp
+      {
+        std::lock_guard<std::mutex> lock(stats_mutex_);
+        last_rays_ = rays_->lastCounts();
+      }
+      if (located)
+        publishRays(msg->header, to_target);  // same frame and stamp as the points
     }
     if (depth_pub_.getNumSubscribers() > 0)
       publishDepth(msg->header, result);

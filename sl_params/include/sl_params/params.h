@@ -6,10 +6,9 @@
 /// `ros::NodeHandle::param()` falls back to the default when a value has the wrong type (a
 /// `max_speed: "fast"` in a launch file would silently become 0.5). Here a present value of the
 /// wrong type is an error, so a typo fails at start instead of running with a value nobody chose.
-/// Ranges belong to the core types' `validate()`; `inRange()` is for the few parameters that have
+/// Ranges belong to the core types' `validate()`; `readInRange()` is for the few parameters that have
 /// no core type (topics' rates, timeouts of the ROS adapter itself).
 
-#include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>

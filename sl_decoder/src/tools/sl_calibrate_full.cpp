@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sl_decoder/calibration/full_calibration.h"
+#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -59,32 +60,27 @@ int main(int argc, char** argv)
   bool written = false;
   try
   {
-    for (int i = 1; i < argc; ++i)
+    sl_projector::ToolArgs args(argc, argv);
+    for (std::string a; args.next(a);)
     {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
       if (a == "-h" || a == "--help")
       {
         std::cout << kUsage;
         return 0;
       }
       else if (a == "--rig")
-        rig_path = next();
+        rig_path = args.value();
       else if (a == "--out")
-        out_path = next();
+        out_path = args.value();
       else if (a == "--board")
-        board_size = next();
+        board_size = args.value();
       else if (a == "--square")
-        square = std::stod(next());
+        square = args.number();
       else if (a == "--camera-view")
-        camera_views.push_back(next());
+        camera_views.push_back(args.value());
       else if (a == "--pose")
       {
-        const std::string v = next();
+        const std::string v = args.value();
         const size_t comma = v.find(',');
         if (comma == std::string::npos || comma == 0 || comma + 1 == v.size())
           throw std::invalid_argument("--pose needs BOARD_IMAGE,PATTERN_IMAGE, got '" + v + "'");
@@ -94,25 +90,25 @@ int main(int argc, char** argv)
       {
         std::string path;
         double d = 0.0;
-        parsePathAndNumber(next(), path, d);
+        parsePathAndNumber(args.value(), path, d);
         planes.emplace_back(path, d);
       }
       else if (a == "--camera-info")
-        camera_info = next();
+        camera_info = args.value();
       else if (a == "--camera-info-out")
-        camera_info_out = next();
+        camera_info_out = args.value();
       else if (a == "--reference")
-        options.distance_planes.reference = parseDistanceReference(next());
+        options.distance_planes.reference = parseDistanceReference(args.value());
       else if (a == "--normal")
-        options.distance_planes.normal = parsePlaneNormal(next());
+        options.distance_planes.normal = parsePlaneNormal(args.value());
       else if (a == "--k3")
         options.camera.fix_k3 = options.projector.fix_k3 = false;
       else if (a == "--no-joint")
         options.joint_refinement = false;
       else if (a == "--epipolar-tolerance")
-        options.epipolar_tolerance = std::stod(next());
+        options.epipolar_tolerance = args.number();
       else
-        throw std::invalid_argument("unknown argument '" + a + "'");
+        args.unknown();
     }
     if (rig_path.empty() || out_path.empty())
       throw std::invalid_argument("--rig and --out are required");

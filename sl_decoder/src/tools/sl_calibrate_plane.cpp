@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_projector/tool_args.h"
 
 #ifdef SL_CALIBRATION_WITH_ROSBAG
 #include <cv_bridge/cv_bridge.h>
@@ -141,39 +142,34 @@ int main(int argc, char** argv)
   std::vector<Source> sources;
   try
   {
-    for (int i = 1; i < argc; ++i)
+    sl_projector::ToolArgs args(argc, argv);
+    for (std::string a; args.next(a);)
     {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
       if (a == "-h" || a == "--help")
       {
         std::cout << kUsage;
         return 0;
       }
       else if (a == "--rig")
-        rig_path = next();
+        rig_path = args.value();
       else if (a == "--out")
-        out_path = next();
+        out_path = args.value();
       else if (a == "--reference")
-        options.reference = parseDistanceReference(next());
+        options.reference = parseDistanceReference(args.value());
       else if (a == "--normal")
-        options.normal = parsePlaneNormal(next());
+        options.normal = parsePlaneNormal(args.value());
       else if (a == "--min-distances")
-        options.min_distances = std::stoi(next());
+        options.min_distances = static_cast<int>(args.integer(1, 1000));
       else if (a == "--max-rms")
-        options.max_rational_rms = std::stod(next()) / 1000.0;
+        options.max_rational_rms = args.number() / 1000.0;
       else if (a == "--epipolar-tolerance")
-        epipolar_tolerance = std::stod(next());
+        epipolar_tolerance = args.number();
       else if (a == "--residuals")
-        residuals_path = next();
+        residuals_path = args.value();
       else if (a == "--topic")
-        topic = next();
+        topic = args.value();
       else if (!a.empty() && a[0] == '-')
-        throw std::invalid_argument("unknown option '" + a + "'");
+        args.unknown();
       else
       {
         Source s;

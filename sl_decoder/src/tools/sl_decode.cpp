@@ -11,6 +11,7 @@
 
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
+#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -56,37 +57,26 @@ int main(int argc, char** argv)
   int repeat = 1;
   try
   {
-    for (int i = 1; i < argc; ++i)
+    sl_projector::ToolArgs args(argc, argv);
+    for (std::string a; args.next(a);)
     {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
       if (a == "--calibration")
-        calibration = next();
+        calibration = args.value();
       else if (a == "--csv")
-        csv = next();
+        csv = args.value();
       else if (a == "--rays-csv")
-        rays_csv = next();
+        rays_csv = args.value();
       else if (a == "--repeat")
-      {
-        const std::string v = next();
-        size_t used = 0;
-        repeat = std::stoi(v, &used);
-        if (used != v.size() || repeat < 1)
-          throw std::invalid_argument("--repeat expects a positive integer, got '" + v + "'");
-      }
+        repeat = static_cast<int>(args.integer(1, 1000000));
       else if (a == "--depth-mode")
-        mode = next();
+        mode = args.value();
       else if (a == "-h" || a == "--help")
       {
         std::cout << kUsage;
         return 0;
       }
       else if (!a.empty() && a[0] == '-')
-        throw std::invalid_argument("unknown option '" + a + "'");
+        args.unknown();
       else if (image_path.empty())
         image_path = a;
       else

@@ -13,6 +13,7 @@
 
 #include "sl_decoder/calibration/full_calibration.h"
 #include "sl_evaluation/calibration_simulation.h"
+#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -94,34 +95,29 @@ int main(int argc, char** argv)
   double board_ambient = 0.6;
   try
   {
-    for (int i = 2; i < argc; ++i)
+    sl_projector::ToolArgs args(argc, argv, 2);  // after the command
+    for (std::string a; args.next(a);)
     {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
       if (a == "--rig")
-        rig_path = next();
+        rig_path = args.value();
       else if (a == "--out-dir")
-        out_dir = next();
+        out_dir = args.value();
       else if (a == "--calibration")
-        calibration = next();
+        calibration = args.value();
       else if (a == "--scenes-dir")
-        scenes_dir = next();
+        scenes_dir = args.value();
       else if (a == "--distances")
-        distances = parseNumberList(next());
+        distances = parseNumberList(args.value());
       else if (a == "--frames")
-        frames = std::stoi(next());
+        frames = static_cast<int>(args.integer(1, 100));
       else if (a == "--seed")
-        seed = std::stoull(next());
+        seed = static_cast<uint64_t>(args.integer(0));
       else if (a == "--ambient")
-        settings.ambient = std::stod(next());
+        settings.ambient = args.number();
       else if (a == "--board-ambient")
-        board_ambient = std::stod(next());
+        board_ambient = args.number();
       else
-        throw std::invalid_argument("unknown option '" + a + "'");
+        args.unknown();
     }
     if (frames < 1 || frames > 100)
       throw std::invalid_argument("--frames must be 1..100");

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sl_evaluation/evaluation.h"
+#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -93,35 +94,30 @@ int main(int argc, char** argv)
   bool split_merged = sl_decoder::DecoderConfig().split_merged;
   try
   {
-    for (int i = 1; i < argc; ++i)
+    sl_projector::ToolArgs args(argc, argv);
+    for (std::string a; args.next(a);)
     {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
       if (a == "--calibration")
-        calibration = next();
+        calibration = args.value();
       else if (a == "--frames")
-        frames = std::max(1, std::stoi(next()));
+        frames = static_cast<int>(args.integer(1, 1000000));
       else if (a == "--ambient")
-        settings.ambient = std::stod(next());
+        settings.ambient = args.number();
       else if (a == "--set")
-        setSetting(settings, next());
+        setSetting(settings, args.value());
       else if (a == "--seed")
-        seed = std::stoull(next());
+        seed = static_cast<uint64_t>(args.integer(0));
       else if (a == "--no-split-merged")
         split_merged = false;
       else if (a == "--albedo")
       {
-        albedo = std::stod(next());
+        albedo = args.number();
         if (!(albedo > 0.0 && albedo <= 1.0))
           throw std::invalid_argument("--albedo: must be in (0, 1]");
       }
       else if (a == "--plane")
       {
-        const double d = std::stod(next());
+        const double d = args.number();
         if (!(d >= 0.2 && d <= 3.0))
           throw std::invalid_argument("--plane: distance must be 0.2 to 3 m");
         planes.push_back(d);
@@ -132,7 +128,7 @@ int main(int argc, char** argv)
         return 0;
       }
       else if (!a.empty() && a[0] == '-')
-        throw std::invalid_argument("unknown option '" + a + "'");
+        args.unknown();
       else
         scenes.push_back(a);
     }

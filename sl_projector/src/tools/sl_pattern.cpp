@@ -10,6 +10,7 @@
 #include "device/dlp_pico.h"
 #include "sl_projector/de_bruijn.h"
 #include "sl_projector/pattern.h"
+#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -57,14 +58,9 @@ int main(int argc, char** argv)
   std::string png;
   try
   {
-    for (int i = 1; i < argc; ++i)
+    sl_projector::ToolArgs args(argc, argv);
+    for (std::string a; args.next(a);)
     {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
       if (a == "--sequences")
         sequences = true;
       else if (a == "--array")
@@ -72,19 +68,19 @@ int main(int argc, char** argv)
       else if (a == "--dlp-bytes")
         dlp = true;
       else if (a == "--png")
-        png = next();
+        png = args.value();
       else if (a == "--rows")
-        config.rows = toInt(a, next());
+        config.rows = static_cast<int>(args.integer(1, 1000));
       else if (a == "--cols")
-        config.cols = toInt(a, next());
+        config.cols = static_cast<int>(args.integer(1, 1000));
       else if (a == "--primitive")
-        toPair(a, next(), config.primitive_width, config.primitive_height);
+        toPair(a, args.value(), config.primitive_width, config.primitive_height);
       else if (a == "--gap")
-        toPair(a, next(), config.gap_x, config.gap_y);
+        toPair(a, args.value(), config.gap_x, config.gap_y);
       else if (a == "--offset")
-        toPair(a, next(), config.offset_x, config.offset_y);
+        toPair(a, args.value(), config.offset_x, config.offset_y);
       else if (a == "--size")
-        toPair(a, next(), config.projector_width, config.projector_height);
+        toPair(a, args.value(), config.projector_width, config.projector_height);
       else if (a == "--flip-x")
         config.flip_x = true;
       else if (a == "--flip-y")
@@ -95,7 +91,7 @@ int main(int argc, char** argv)
         return 0;
       }
       else
-        throw std::invalid_argument("unknown argument '" + a + "'");
+        args.unknown();
     }
     if (!sequences && !array && png.empty() && !dlp)
       throw std::invalid_argument("nothing to do");

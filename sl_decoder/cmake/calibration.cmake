@@ -48,7 +48,7 @@ add_library(sl_calibration_nodelets src/nodelets/calibration_nodelet.cpp)
 target_include_directories(sl_calibration_nodelets PRIVATE ${catkin_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
   ${std_msgs_INCLUDE_DIRS})
 target_link_libraries(sl_calibration_nodelets sl_calibration_core ${catkin_LIBRARIES})
-add_executable(calibration_node src/nodelets/calibration_node.cpp)
+add_executable(calibration_node src/nodes/calibration_node.cpp)
 target_include_directories(calibration_node PRIVATE ${catkin_INCLUDE_DIRS})
 target_link_libraries(calibration_node ${catkin_LIBRARIES})
 

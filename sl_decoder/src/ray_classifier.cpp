@@ -659,8 +659,9 @@ bool RayClassifier::confirmed(const std::vector<RayOutcome>& outcomes, int i) co
   const int r = i / cols_, c = i % cols_;
   // Its own light: a neighbouring row's decoded or lit end within kSupport.
   if (near_other_[static_cast<size_t>(i)] == 0)
-    for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1); rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); cc <= std::min(cols_ - 1, c + kSupportCols); ++cc)
+    for (int rr = r - 1; rr <= r + 1; rr += 2)
+      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
+           ++cc)
       {
         const size_t j = static_cast<size_t>(rr * cols_ + cc);
         const RayOutcome& q = outcomes[j];
@@ -675,8 +676,9 @@ bool RayClassifier::confirmed(const std::vector<RayOutcome>& outcomes, int i) co
   const float glow_depth = static_cast<float>(config_.glow_max_depth);
   if (!(o.depth < glow_depth))
     return false;
-  for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1); ++rr)
-    for (int cc = std::max(0, c - kGlowSupportCols); cc <= std::min(cols_ - 1, c + kGlowSupportCols); ++cc)
+  for (int rr = r - 1; rr <= r + 1; rr += 2)
+    for (int cc = std::max(0, c - kGlowSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kGlowSupportCols);
+         ++cc)
     {
       const size_t j = static_cast<size_t>(rr * cols_ + cc);
       const RayOutcome& q = outcomes[j];
@@ -707,8 +709,9 @@ void RayClassifier::dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes)
     if (!unsupported_[static_cast<size_t>(i)] || !(o.depth < glow_depth))
       continue;
     const int r = i / cols_, c = i % cols_;
-    for (int rr = std::max(0, r - 1); rr <= std::min(rows_ - 1, r + 1) && unsupported_[static_cast<size_t>(i)]; rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); cc <= std::min(cols_ - 1, c + kSupportCols); ++cc)
+    for (int rr = r - 1; rr <= r + 1 && unsupported_[static_cast<size_t>(i)] == 1; rr += 2)
+      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
+           ++cc)
       {
         const size_t j = static_cast<size_t>(rr * cols_ + cc);
         if (outcomes[j].state == RayState::Lit && unsupported_[j] == 0 && near_other_[j] == 0 &&

@@ -58,12 +58,13 @@ TEST(Params, WrongTypesAreRefusedNamingTheParameter)
   EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "a_number_for_a_bool", false); }),
             "~a_number_for_a_bool must be a boolean, got an integer");
   EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "an_int", std::string()); }), "~an_int must be a string, got an integer");
+  EXPECT_EQ(sl_params::read<uint64_t>(pnh, "an_int", 0), 3u);  // unsigned 64-bit: range compared unsigned
   EXPECT_EQ(errorOf([&] { sl_params::read<uint8_t>(pnh, "too_big_for_a_byte", 0); }),
             "~too_big_for_a_byte must be an integer in [0, 255], got 300");
   EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "a_mixed_list", std::vector<double>()); }),
-            "~a_mixed_list must be a list of the right element type, got a list");
+            "~a_mixed_list must be a list of numbers, got a list");
   EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "a_double", std::vector<double>()); }),
-            "~a_double must be a list of the right element type, got a number");
+            "~a_double must be a list of numbers, got a number");
 }
 
 TEST(Params, RequiredAndRangesNameTheParameter)

@@ -118,7 +118,7 @@ void CameraConfig::applyRigSize(int rig_width, int rig_height, const std::string
 {
   SourceSettings& s = settings;
   if (rig_width <= 0 || rig_height <= 0)
-    throw std::invalid_argument("rig_file " + rig_file + " has no camera image size");
+    throw std::invalid_argument("calibration_file " + rig_file + " has no camera image size");
   if (s.width == 0 && s.height == 0)
   {
     s.width = rig_width;

@@ -65,7 +65,16 @@ template <typename T>
 constexpr const char* expected()
 {
   if constexpr (IsVector<T>::value)
-    return "a list of the right element type";
+  {
+    if constexpr (std::is_same<typename T::value_type, bool>::value)
+      return "a list of booleans";
+    else if constexpr (std::is_same<typename T::value_type, std::string>::value)
+      return "a list of strings";
+    else if constexpr (std::is_integral<typename T::value_type>::value)
+      return "a list of integers";
+    else
+      return "a list of numbers";
+  }
   else if constexpr (std::is_same<T, bool>::value)
     return "a boolean";
   else if constexpr (std::is_same<T, std::string>::value)
@@ -108,9 +117,14 @@ bool convert(XmlRpc::XmlRpcValue& v, T& out)
   {
     if (v.getType() != Type::TypeInt)
       return false;
-    const long long i = static_cast<int>(v);
-    if (i < static_cast<long long>(std::numeric_limits<T>::lowest()) ||
-        i > static_cast<long long>(std::numeric_limits<T>::max()))
+    const long long i = static_cast<int>(v);  // XmlRpc integers are 32-bit
+    if constexpr (std::is_unsigned<T>::value)
+    {
+      if (i < 0 || static_cast<unsigned long long>(i) > std::numeric_limits<T>::max())
+        return false;
+    }
+    else if (i < static_cast<long long>(std::numeric_limits<T>::lowest()) ||
+             i > static_cast<long long>(std::numeric_limits<T>::max()))
       return false;
     out = static_cast<T>(i);
   }
@@ -171,7 +185,12 @@ template <typename T>
 bool readIfSetRenamed(const ros::NodeHandle& nh, const std::string& name, const std::string& old_name, T& out)
 {
   if (readIfSet(nh, name, out))
+  {
+    if (nh.hasParam(old_name))
+      ROS_WARN("%s is set too and ignored: it is the deprecated former name of %s (%s)",
+               displayName(nh, old_name).c_str(), displayName(nh, name).c_str(), nh.getNamespace().c_str());
     return true;
+  }
   if (!readIfSet(nh, old_name, out))
     return false;
   ROS_WARN("%s is deprecated: use %s (%s)", displayName(nh, old_name).c_str(), displayName(nh, name).c_str(),

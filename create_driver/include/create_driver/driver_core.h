@@ -155,10 +155,6 @@ public:
   bool haveSensors() const { return have_frame_; }
   /// @brief Mode reported by the robot, or -1 if unknown.
   int reportedMode() const { return reported_mode_; }
-  /// @brief Linear velocity of the last command computed (after limits), m/s.
-  double commandedLinear() const { return limiter_.linear(); }
-  /// @brief Angular velocity of the last command computed (after limits), rad/s.
-  double commandedAngular() const { return limiter_.angular(); }
   /// @brief Left wheel speed of the last drive command sent, mm/s.
   int lastLeftMmS() const { return last_left_; }
   /// @brief Right wheel speed of the last drive command sent, mm/s.

@@ -38,8 +38,6 @@ public:
   bool link(const std::string& link_path, std::string* error);
   /// @brief Removes the symlink made by link() if it still points to a pty of ours.
   void unlink();
-  /// @brief Current link path (empty if none).
-  const std::string& linkPath() const { return link_path_; }
 
   /// @brief Waits up to @p timeout_ms for input on the master.
   /// @return true if readable (or hung up)

@@ -35,9 +35,6 @@ public:
   /// @brief Uses @p config (validated by the caller).
   explicit BlobDetector(const DecoderConfig& config = DecoderConfig());
 
-  /// @brief Replaces the configuration.
-  void setConfig(const DecoderConfig& config) { config_ = config; }
-
   /**
    * @brief Detects blobs in a CV_8UC1 image.
    * @param image mono8 image.

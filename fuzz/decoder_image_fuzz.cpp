@@ -166,7 +166,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   f.rays->classify(f.image, f.result, f.outcomes);
   checkResult(f);
   if (std::getenv("SL_FUZZ_VERBOSE"))  // to see what a seed reaches
-    std::fprintf(stderr, "%zu blobs, %d identified, %d decoded, %d valid; rays: %d decoded, %d floor, %d dark, %d lit\n",
+    std::fprintf(stderr,
+                 "%zu blobs, %d identified, %d decoded, %d valid; rays: %d decoded, %d floor, %d dark, %d lit\n",
                  f.result.blobs.size(), f.result.identified, f.result.decoded, f.result.valid,
                  f.rays->lastCount(sl_decoder::RayState::Decoded), f.rays->lastCount(sl_decoder::RayState::Floor),
                  f.rays->lastCount(sl_decoder::RayState::Dark), f.rays->lastCount(sl_decoder::RayState::Lit));

@@ -70,8 +70,8 @@ void decodeAll(const sl_projector::Rig& rig, const sl_decoder::DecoderConfig& co
     }
     if (std::getenv("SL_FUZZ_VERBOSE"))  // to see what a seed reaches
       std::fprintf(stderr, "%s: %zu blobs, %d identified, %d decoded, %d valid\n",
-                   sl_decoder::depthModeName(config.depth_mode), result.blobs.size(), result.identified,
-                   result.decoded, result.valid);
+                   sl_decoder::depthModeName(config.depth_mode), result.blobs.size(), result.identified, result.decoded,
+                   result.valid);
   }
 }
 }  // namespace

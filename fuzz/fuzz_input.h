@@ -11,14 +11,14 @@
 #include <vector>
 
 /// Aborts with the failed condition: libFuzzer reports it as a crash with its reproducer.
-#define FUZZ_CHECK(condition)                                                                      \
-  do                                                                                               \
-  {                                                                                                \
-    if (!(condition))                                                                              \
-    {                                                                                              \
-      std::fprintf(stderr, "FUZZ_CHECK failed: %s (%s:%d)\n", #condition, __FILE__, __LINE__);    \
-      std::abort();                                                                                \
-    }                                                                                              \
+#define FUZZ_CHECK(condition)                                                                  \
+  do                                                                                           \
+  {                                                                                            \
+    if (!(condition))                                                                          \
+    {                                                                                          \
+      std::fprintf(stderr, "FUZZ_CHECK failed: %s (%s:%d)\n", #condition, __FILE__, __LINE__); \
+      std::abort();                                                                            \
+    }                                                                                          \
   } while (false)
 
 namespace sl_fuzz

@@ -31,8 +31,10 @@ PlaneRenderer::PlaneRenderer(const sl_projector::Rig& rig) : rig_(rig)
     {
       const int i = u / kStep, j = v / kStep;
       const double a = (u - i * kStep) / static_cast<double>(kStep), b = (v - j * kStep) / static_cast<double>(kStep);
-      const Eigen::Vector2d r = (1 - b) * ((1 - a) * grid[static_cast<size_t>(j * gw + i)] + a * grid[static_cast<size_t>(j * gw + i + 1)]) +
-                                b * ((1 - a) * grid[static_cast<size_t>((j + 1) * gw + i)] + a * grid[static_cast<size_t>((j + 1) * gw + i + 1)]);
+      const Eigen::Vector2d r =
+          (1 - b) * ((1 - a) * grid[static_cast<size_t>(j * gw + i)] + a * grid[static_cast<size_t>(j * gw + i + 1)]) +
+          b * ((1 - a) * grid[static_cast<size_t>((j + 1) * gw + i)] +
+               a * grid[static_cast<size_t>((j + 1) * gw + i + 1)]);
       rays_[k++] = r.x();
       rays_[k++] = r.y();
     }

@@ -40,7 +40,7 @@ public:
 
 private:
   sl_projector::Rig rig_;
-  double to_projector_[12];  // 3 x 4, row-major: camera optical frame -> projector optical frame
+  double to_projector_[12];   // 3 x 4, row-major: camera optical frame -> projector optical frame
   std::vector<double> rays_;  // (x, y) of each pixel's ray (x, y, 1), row-major
 };
 }  // namespace sl_fuzz

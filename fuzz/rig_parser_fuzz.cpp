@@ -24,8 +24,8 @@ bool same(double a, double b)
 
 bool samePinhole(const sl_projector::PinholeModel& a, const sl_projector::PinholeModel& b)
 {
-  bool equal = a.width == b.width && a.height == b.height && same(a.fx, b.fx) && same(a.fy, b.fy) &&
-               same(a.cx, b.cx) && same(a.cy, b.cy);
+  bool equal = a.width == b.width && a.height == b.height && same(a.fx, b.fx) && same(a.fy, b.fy) && same(a.cx, b.cx) &&
+               same(a.cy, b.cy);
   for (size_t i = 0; i < a.dist.size(); ++i)
     equal = equal && same(a.dist[i], b.dist[i]);
   return equal;
@@ -35,9 +35,8 @@ bool sameModels(const std::vector<sl_projector::DepthModel>& a, const std::vecto
 {
   bool equal = a.size() == b.size();
   for (size_t i = 0; equal && i < a.size(); ++i)
-    equal = a[i].valid == b[i].valid &&
-            (!a[i].valid || (same(a[i].a, b[i].a) && same(a[i].b, b[i].b) && same(a[i].c, b[i].c) &&
-                             same(a[i].rms, b[i].rms)));
+    equal = a[i].valid == b[i].valid && (!a[i].valid || (same(a[i].a, b[i].a) && same(a[i].b, b[i].b) &&
+                                                         same(a[i].c, b[i].c) && same(a[i].rms, b[i].rms)));
   return equal;
 }
 }  // namespace

@@ -50,7 +50,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   double sim_time = 0.0;
   uint64_t taken = 0;
   create_driver::Bytes out;
-  auto step = [&](double dt) {
+  auto step = [&](double dt)
+  {
     // An odd dt is passed on as it is (the robot must cope); the budget counts what it may cost.
     const double cost = std::isfinite(dt) ? std::min(std::max(dt, 0.0), 1.0) : 1.0;
     if (sim_time + cost > kMaxSimSeconds)
@@ -112,8 +113,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
           break;
         case 10:
         {
-          const double odd[] = { 0.0, -1.0, std::numeric_limits<double>::quiet_NaN(),
-                                 std::numeric_limits<double>::infinity(), 1e9, 1e-13 };
+          const double odd[] = {
+            0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), 1e9, 1e-13
+          };
           step(odd[v % 6]);
           break;
         }

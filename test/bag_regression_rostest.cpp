@@ -229,7 +229,8 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
     ros::WallDuration(0.2).sleep();
     std::lock_guard<std::mutex> lock(mutex_);
     complete = std::all_of(frames_.begin(), frames_.end(),
-                           [](const std::pair<const int64_t, Frame>& f) { return f.second.have_cloud && f.second.have_decision; });
+                           [](const std::pair<const int64_t, Frame>& f)
+                           { return f.second.have_cloud && f.second.have_decision; });
     if (complete || (!ros::Time::now().isZero() && ros::Time::now().toSec() > last_stamp + 3.0))
       break;
   }
@@ -259,7 +260,8 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
         << "  points_abs: 10\n"
         << "  distance: 0.010           # m, mean_x, min_x, nearest and free distance\n"
         << "  coverage: 0.10\n"
-        << "  max_state_mismatches: 2   # frames whose state or blocked flag may differ (timing of goals); not the last\n"
+        << "  max_state_mismatches: 2   # frames whose state or blocked flag may differ (timing of goals); not the "
+           "last\n"
         << "frames:\n";
     for (int64_t k : order)
     {
@@ -293,8 +295,8 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
   {
     const YAML::Node e = list[i];
     const Frame& f = frames_.at(order[i]);
-    ASSERT_NEAR(e["stamp"].as<double>(), f.stamp, 1e-5) << "frame " << i << ": " << expectations_path
-                                                         << " was written for another bag";
+    ASSERT_NEAR(e["stamp"].as<double>(), f.stamp, 1e-5)
+        << "frame " << i << ": " << expectations_path << " was written for another bag";
     if (!f.have_cloud || !f.have_decision)
     {
       ++lost;
@@ -302,8 +304,8 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
     }
     const int points = e["points"].as<int>();
     const double allowed = points_fraction * points + points_abs;
-    EXPECT_LE(std::abs(f.cloud.points - points), allowed) << "frame " << i << ": points " << f.cloud.points
-                                                          << ", expected " << points;
+    EXPECT_LE(std::abs(f.cloud.points - points), allowed)
+        << "frame " << i << ": points " << f.cloud.points << ", expected " << points;
     const int window_points = e["window_points"].as<int>();
     EXPECT_LE(std::abs(f.cloud.window_points - window_points), points_fraction * window_points + points_abs)
         << "frame " << i << ": window points " << f.cloud.window_points << ", expected " << window_points;
@@ -324,8 +326,8 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
     {
       ++state_mismatches;
       ROS_WARN("frame %zu: decision %s / reason %d / blocked %d, recorded %s / reason %d / blocked %d", i,
-               stateName(f.decision.state), f.decision.reason, f.decision.blocked, state.c_str(),
-               e["reason"].as<int>(), e["blocked"].as<bool>());
+               stateName(f.decision.state), f.decision.reason, f.decision.blocked, state.c_str(), e["reason"].as<int>(),
+               e["blocked"].as<bool>());
     }
     else if (e["reason"].as<int>() != f.decision.reason)
     {

@@ -79,8 +79,7 @@ TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
   {
     ros::WallDuration(0.1).sleep();
     std::lock_guard<std::mutex> lock(mutex_);
-    stopped = have_pose_ && have_status_ && ever_drove_ &&
-              status_.state == sl_obstacle::ObstacleStatus::BLOCKED &&
+    stopped = have_pose_ && have_status_ && ever_drove_ && status_.state == sl_obstacle::ObstacleStatus::BLOCKED &&
               status_.reason_code == sl_obstacle::ObstacleStatus::REASON_OBSTACLE &&
               (ros::Time::now() - last_motion_).toSec() > settle;
   }
@@ -95,10 +94,11 @@ TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
   const double stop_distance = obstacle_x - edge_x;
   const double travelled = pose_.position.x - start_x;
   const double nearest_y_world = pose_.position.y + status_.nearest_point.y;
-  ROS_INFO("closed loop: stopped with the front edge %.4f m from the obstacle (clearance %.3f m, error %+.1f mm) "
-           "after %.3f m; the system measured %.4f m, nearest point at y = %+.4f m (world); heading %.4f rad",
-           stop_distance, clearance, 1000.0 * (stop_distance - clearance), travelled, status_.nearest_distance,
-           nearest_y_world, yawOf(pose_));
+  ROS_INFO(
+      "closed loop: stopped with the front edge %.4f m from the obstacle (clearance %.3f m, error %+.1f mm) "
+      "after %.3f m; the system measured %.4f m, nearest point at y = %+.4f m (world); heading %.4f rad",
+      stop_distance, clearance, 1000.0 * (stop_distance - clearance), travelled, status_.nearest_distance,
+      nearest_y_world, yawOf(pose_));
   EXPECT_NEAR(stop_distance, clearance, tolerance) << "front edge not at the configured clearance";
   EXPECT_GT(travelled, 0.1) << "the robot hardly moved";
   EXPECT_NEAR(yawOf(pose_), 0.0, 0.05) << "the robot did not drive straight";

@@ -128,8 +128,7 @@ protected:
                                      base.position.y + radius_ * std::sin(yaw + a), z);
         ray.direction = ahead;
         sl_sim::Hit hit;
-        if (sl_sim::intersectScene(scene_, ray, hit, 1e-6, 3.0) && !scene_.objects[hit.object].floor &&
-            hit.t < best)
+        if (sl_sim::intersectScene(scene_, ray, hit, 1e-6, 3.0) && !scene_.objects[hit.object].floor && hit.t < best)
         {
           best = hit.t;
           lateral = radius_ * std::sin(a);
@@ -206,10 +205,11 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
     ros::WallDuration(0.1).sleep();
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  ROS_INFO("explore %s: path %.2f m in %.0f s, area covered %.2f m^2, nearest approach %.3f m, %zu + %zu stops "
-           "before obstacles in the path / beside it, states 0x%x",
-           scene_.name.c_str(), path_, (ros::WallTime::now() - run).toSec(), covered_.size() * kCell * kCell, nearest_,
-           stop_errors_.size(), side_stop_errors_.size(), states_seen_);
+  ROS_INFO(
+      "explore %s: path %.2f m in %.0f s, area covered %.2f m^2, nearest approach %.3f m, %zu + %zu stops "
+      "before obstacles in the path / beside it, states 0x%x",
+      scene_.name.c_str(), path_, (ros::WallTime::now() - run).toSec(), covered_.size() * kCell * kCell, nearest_,
+      stop_errors_.size(), side_stop_errors_.size(), states_seen_);
   EXPECT_EQ(contact_bits_, 0) << "the robot touched something";
   EXPECT_FALSE(bumped_) << "a bumper fired";
   EXPECT_GT(contact_messages_, 0) << "no contact messages: the check above saw nothing";

@@ -112,10 +112,7 @@ protected:
   }
 
   /// Gap between the robot's disc and the wall x = wall_x_.
-  double gap() const
-  {
-    return wall_x_ - (pose_.position.x + radius_);
-  }
+  double gap() const { return wall_x_ - (pose_.position.x + radius_); }
 
   void expectNoContact()
   {
@@ -196,14 +193,16 @@ void Filter::runWall()
     path_ = max_speed_ = 0.0;
     reasons_seen_ = 0;
   }
-  command(0.5, 0.0, 30.0, [&] {
-    return path_ > 0.2 && (ros::Time::now() - last_move_).toSec() > 1.0 && (ros::Time::now() - start).toSec() > 3.0;
-  });
+  command(0.5, 0.0, 30.0,
+          [&] {
+            return path_ > 0.2 && (ros::Time::now() - last_move_).toSec() > 1.0 &&
+                   (ros::Time::now() - start).toSec() > 3.0;
+          });
   double x0 = 0.0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    ROS_INFO("filter wall: stopped %.4f m before the wall (clearance %.3f), top speed %.3f m/s, path %.3f m: %s",
-             gap(), clearance, max_speed_, path_, last_status_.reason.c_str());
+    ROS_INFO("filter wall: stopped %.4f m before the wall (clearance %.3f), top speed %.3f m/s, path %.3f m: %s", gap(),
+             clearance, max_speed_, path_, last_status_.reason.c_str());
     EXPECT_GT(path_, 0.2) << "the robot did not drive toward the wall";
     EXPECT_NEAR(gap(), clearance, tolerance) << "stop off the clearance";
     EXPECT_GT(max_speed_, 0.25) << "the filter never let the robot go fast";
@@ -260,7 +259,7 @@ void Filter::runArcs()
 {
   // Arcs to both sides past the leg, then on toward the wall: the filter slows and stops each one
   // before the leg or the wall; turning in place always passes.
-  const double legs[][3] = { { 0.3, 0.0, 3.0 }, { 0.3, 0.5, 4.0 }, { 0.0, -1.0, 1.5 }, { 0.3, -0.4, 4.0 },
+  const double legs[][3] = { { 0.3, 0.0, 3.0 }, { 0.3, 0.5, 4.0 }, { 0.0, -1.0, 1.5 },  { 0.3, -0.4, 4.0 },
                              { 0.0, 1.0, 2.0 }, { 0.3, 0.8, 4.0 }, { -0.15, 0.0, 2.0 }, { 0.3, 0.3, 4.0 } };
   lookAround();
   for (const auto& leg : legs)
@@ -274,9 +273,8 @@ void Filter::runArcs()
 void Filter::runTakeover()
 {
   const double hold = privateParam("teleop_hold", 2.0);
-  const auto autonomy_drives = [&] {
-    return !last_status_.teleop && (last_status_.state == S::DRIVING || last_status_.state == S::SLOWING);
-  };
+  const auto autonomy_drives = [&]
+  { return !last_status_.teleop && (last_status_.state == S::DRIVING || last_status_.state == S::SLOWING); };
   ASSERT_TRUE(waitFor(40.0, autonomy_drives)) << "autonomy never drove: " << last_status_.reason;
   double yaw0 = 0.0;
   {
@@ -297,7 +295,8 @@ void Filter::runTakeover()
   const double resumed_after = (ros::Time::now() - quiet).toSec();
   ROS_INFO("filter takeover: autonomy resumed %.2f s after the last command (teleop_hold %.1f s)", resumed_after, hold);
   EXPECT_GE(resumed_after, hold - 0.2) << "autonomy took back control before teleop_hold";
-  EXPECT_TRUE(waitFor(30.0, [&] { return last_status_.command == S::COMMAND_DRIVE || last_status_.command == S::COMMAND_TURN; }))
+  EXPECT_TRUE(waitFor(
+      30.0, [&] { return last_status_.command == S::COMMAND_DRIVE || last_status_.command == S::COMMAND_TURN; }))
       << "autonomy gave no command after resuming: " << last_status_.reason;
 }
 

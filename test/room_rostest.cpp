@@ -172,16 +172,18 @@ TEST_F(Room, RunsAMinuteWithoutContact)
   const double decided_share = clouds.empty() ? 0.0 : static_cast<double>(clouds_decided) / cloud_stamps_.size();
   const double decisions_per_cloud =
       decided_clouds_.empty() ? 0.0 : static_cast<double>(status_messages_) / decided_clouds_.size();
-  ROS_INFO("room: %zu camera frames, %d between the first and the last of %zu clouds, %d of them with a cloud "
-           "(%.3f), longest run without %d; %d decisions on %zu clouds, %d of ours (%.3f), %.2f decisions a cloud; "
-           "out of order: %d clouds, %d decisions",
-           frame_stamps_.size(), frames, cloud_stamps_.size(), frames_with_cloud, cloud_share, longest_gap,
-           status_messages_, decided_clouds_.size(), clouds_decided, decided_share, decisions_per_cloud,
-           clouds_out_of_order_, decisions_out_of_order_);
-  ROS_INFO("room: %.1f s, path %.3f m, turned %.2f rad, %d drive commands, blocked %d, turned away %d, drove on %d, "
-           "no free direction %d, contact %d, bumper %d; at (%.3f, %.3f, %.2f rad)",
-           (ros::Time::now() - start).toSec(), path_, turned_, drive_commands_, blocked_, turned_after_block_,
-           drove_after_turn_, gave_up_after_turn_, contact_bits_, bumped_, pose_.position.x, pose_.position.y, yawOf(pose_));
+  ROS_INFO(
+      "room: %zu camera frames, %d between the first and the last of %zu clouds, %d of them with a cloud "
+      "(%.3f), longest run without %d; %d decisions on %zu clouds, %d of ours (%.3f), %.2f decisions a cloud; "
+      "out of order: %d clouds, %d decisions",
+      frame_stamps_.size(), frames, cloud_stamps_.size(), frames_with_cloud, cloud_share, longest_gap, status_messages_,
+      decided_clouds_.size(), clouds_decided, decided_share, decisions_per_cloud, clouds_out_of_order_,
+      decisions_out_of_order_);
+  ROS_INFO(
+      "room: %.1f s, path %.3f m, turned %.2f rad, %d drive commands, blocked %d, turned away %d, drove on %d, "
+      "no free direction %d, contact %d, bumper %d; at (%.3f, %.3f, %.2f rad)",
+      (ros::Time::now() - start).toSec(), path_, turned_, drive_commands_, blocked_, turned_after_block_,
+      drove_after_turn_, gave_up_after_turn_, contact_bits_, bumped_, pose_.position.x, pose_.position.y, yawOf(pose_));
   EXPECT_GT(contact_messages_, 100) << "no contact signal from the camera simulator: cannot tell";
   EXPECT_EQ(contact_bits_, 0) << "the robot touched something";
   EXPECT_GT(hazard_messages_, 0) << "no hazards from the driver";

@@ -33,8 +33,8 @@ std::string readFile(const std::string& path)
 GeneratorRun generate(const std::string& rig_file)
 {
   const std::string err_file = testing::TempDir() + "/bringup_make_urdf.err";
-  const std::string command = "/usr/bin/python3 " SL_BRINGUP_SCRIPTS_DIR "/bringup_make_urdf.py '" + rig_file +
-                              "' 2> '" + err_file + "'";
+  const std::string command =
+      "/usr/bin/python3 " SL_BRINGUP_SCRIPTS_DIR "/bringup_make_urdf.py '" + rig_file + "' 2> '" + err_file + "'";
   GeneratorRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe)
@@ -131,27 +131,25 @@ TEST(RobotModel, DefaultRigGivesTheMountAndProjectorPose)
   std::array<double, 9> rotation;
   for (int i = 0; i < 9; ++i)
     rotation[i] = pose["rotation"][i].as<double>();
-  expectPose(model, "projector_joint", "camera_optical_frame",
-             { pose["translation"][0].as<double>(), pose["translation"][1].as<double>(),
-               pose["translation"][2].as<double>() },
-             rotation);
+  expectPose(
+      model, "projector_joint", "camera_optical_frame",
+      { pose["translation"][0].as<double>(), pose["translation"][1].as<double>(), pose["translation"][2].as<double>() },
+      rotation);
 }
 
 TEST(RobotModel, AnyRotationRoundTrips)
 {
   // General rotations, and pitch at +-90 degrees (gimbal lock: roll and yaw are not unique there).
-  const std::array<std::array<double, 3>, 5> cases = { { { 0.3, -0.4, 1.2 },
-                                                         { -2.9, 0.1, -3.0 },
-                                                         { 0.0, M_PI / 2, 0.7 },
-                                                         { 0.5, -M_PI / 2, 0.0 },
-                                                         { 0.0, 0.0, 0.0 } } };
+  const std::array<std::array<double, 3>, 5> cases = {
+    { { 0.3, -0.4, 1.2 }, { -2.9, 0.1, -3.0 }, { 0.0, M_PI / 2, 0.7 }, { 0.5, -M_PI / 2, 0.0 }, { 0.0, 0.0, 0.0 } }
+  };
   int k = 0;
   for (const auto& rpy : cases)
   {
     const std::array<double, 9> rotation = matrixOfRpy(rpy[0], rpy[1], rpy[2]);
-    const std::string file = writeRig("rot" + std::to_string(k++) + ".yaml",
-                                      rigText("base_link", { 0.1, -0.02, 0.3 }, { 0.01, -0.2, 0.3 }, rotation,
-                                              { -0.05, 0.01, 0.002 }));
+    const std::string file =
+        writeRig("rot" + std::to_string(k++) + ".yaml",
+                 rigText("base_link", { 0.1, -0.02, 0.3 }, { 0.01, -0.2, 0.3 }, rotation, { -0.05, 0.01, 0.002 }));
     const GeneratorRun run = generate(file);
     ASSERT_EQ(run.status, 0) << run.err;
     urdf::Model model;
@@ -169,7 +167,8 @@ TEST(RobotModel, InvalidRigFilesAreRefusedNamingTheKey)
     std::string text, expected;
   };
   const Case cases[] = {
-    { "format_version: 1\nprojector_pose: {rotation: [1,0,0,0,1,0,0,0,1], translation: [0.05,0,0]}\n", "mount: missing" },
+    { "format_version: 1\nprojector_pose: {rotation: [1,0,0,0,1,0,0,0,1], translation: [0.05,0,0]}\n",
+      "mount: missing" },
     { rigText("camera_mast", { 0, 0, 0.1 }, { 0, 0, 0 }, identity, { 0.05, 0, 0 }), "mount.parent_frame" },
     { rigText("platform_edge", { 0, 0, 0.1 }, { 0, 0, 0 }, { 1, 0, 0, 0, 1, 0, 0, 0.5, 1 }, { 0.05, 0, 0 }),
       "projector_pose.rotation: is not orthonormal" },

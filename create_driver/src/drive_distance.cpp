@@ -29,14 +29,13 @@ const char* stopReasonName(StopReason reason)
   return "unknown";
 }
 
-DriveDistanceController::DriveDistanceController(const DriveDistanceParams& params) : params_(params)
-{
-}
+DriveDistanceController::DriveDistanceController(const DriveDistanceParams& params) : params_(params) {}
 
 bool DriveDistanceController::start(double distance, double speed, double odom_distance, double odom_yaw, double now,
                                     std::string* error)
 {
-  auto fail = [&](const char* why) {
+  auto fail = [&](const char* why)
+  {
     if (error)
       *error = why;
     return false;

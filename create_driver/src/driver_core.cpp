@@ -65,21 +65,12 @@ void validateConfig(const DriverConfig& c)
 
 std::vector<uint8_t> driverStreamIds(Model model)
 {
-  std::vector<uint8_t> ids = { packet::BUMPS_WHEEL_DROPS,
-                               packet::CLIFF_LEFT,
-                               packet::CLIFF_FRONT_LEFT,
-                               packet::CLIFF_FRONT_RIGHT,
-                               packet::CLIFF_RIGHT,
-                               packet::BUTTONS,
-                               packet::DISTANCE,
-                               packet::ANGLE,
-                               packet::CHARGING_STATE,
-                               packet::VOLTAGE,
-                               packet::CURRENT,
-                               packet::TEMPERATURE,
-                               packet::BATTERY_CHARGE,
-                               packet::BATTERY_CAPACITY,
-                               packet::OI_MODE };
+  std::vector<uint8_t> ids = {
+    packet::BUMPS_WHEEL_DROPS, packet::CLIFF_LEFT,       packet::CLIFF_FRONT_LEFT, packet::CLIFF_FRONT_RIGHT,
+    packet::CLIFF_RIGHT,       packet::BUTTONS,          packet::DISTANCE,         packet::ANGLE,
+    packet::CHARGING_STATE,    packet::VOLTAGE,          packet::CURRENT,          packet::TEMPERATURE,
+    packet::BATTERY_CHARGE,    packet::BATTERY_CAPACITY, packet::OI_MODE
+  };
   if (model == Model::CREATE_2)
   {
     ids.push_back(packet::LEFT_ENCODER_COUNTS);
@@ -89,12 +80,12 @@ std::vector<uint8_t> driverStreamIds(Model model)
 }
 
 DriverCore::DriverCore(const DriverConfig& config)
-  : config_(config)
-  , stream_ids_(driverStreamIds(config.model))
-  , parser_(config.model)
-  , odometry_(config.odometry)
-  , limiter_(config.limits)
-  , dd_(config.drive_distance)
+  : config_(config),
+    stream_ids_(driverStreamIds(config.model)),
+    parser_(config.model),
+    odometry_(config.odometry),
+    limiter_(config.limits),
+    dd_(config.drive_distance)
 {
   parser_.setExpectedIds(stream_ids_);
   outcomes_.reserve(4);
@@ -255,8 +246,8 @@ void DriverCore::control(double now, Bytes& out)
     const DriveDistanceController::Output o = dd_.update(odometry_.distance(), odometry_.yawContinuous(), now);
     if (o.finished)
     {
-      finishGoal(o.reason, o.reason == StopReason::REACHED ? "reached" :
-                                                             "no progress (robot held back?) or goal took too long");
+      finishGoal(o.reason,
+                 o.reason == StopReason::REACHED ? "reached" : "no progress (robot held back?) or goal took too long");
       emergency = true;
     }
     else if (wd_active_)
@@ -352,7 +343,8 @@ void DriverCore::appendMotion(double linear, double angular, Bytes& out)
   }
   else
   {
-    const DriveRadius d = twistToDriveRadius(linear, angular, config_.limits.wheel_base, config_.limits.max_wheel_speed);
+    const DriveRadius d =
+        twistToDriveRadius(linear, angular, config_.limits.wheel_base, config_.limits.max_wheel_speed);
     const WheelSpeeds sent = driveRadiusToWheels(d.velocity_mm_s, d.radius_mm, config_.limits.wheel_base);
     last_left_ = static_cast<int>(std::lround(sent.left * 1000.0));
     last_right_ = static_cast<int>(std::lround(sent.right * 1000.0));
@@ -400,7 +392,8 @@ GoalStart DriverCore::startGoal(double distance, double speed, double now, Bytes
 {
   GoalStart r;
   r.id = next_goal_id_++;
-  auto reject = [&](StopReason reason, const std::string& msg) {
+  auto reject = [&](StopReason reason, const std::string& msg)
+  {
     r.accepted = false;
     r.reason = reason;
     r.message = msg;

@@ -20,9 +20,7 @@ const char* linkStateName(LinkState state)
   return "unknown";
 }
 
-LinkSupervisor::LinkSupervisor(const LinkParams& params) : params_(params), backoff_(params.initial_backoff)
-{
-}
+LinkSupervisor::LinkSupervisor(const LinkParams& params) : params_(params), backoff_(params.initial_backoff) {}
 
 LinkSupervisor::Action LinkSupervisor::tick(double now)
 {

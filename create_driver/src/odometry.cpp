@@ -17,9 +17,7 @@ int encoderDelta(uint16_t now, uint16_t before)
   return static_cast<int16_t>(static_cast<uint16_t>(now - before));
 }
 
-Odometry::Odometry(const Params& params) : params_(params)
-{
-}
+Odometry::Odometry(const Params& params) : params_(params) {}
 
 void Odometry::reset()
 {

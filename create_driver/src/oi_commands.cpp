@@ -103,7 +103,8 @@ void appendMode(Bytes& out, OiMode mode)
 void appendDrive(Bytes& out, int velocity_mm_s, int radius_mm)
 {
   const int v = std::clamp(velocity_mm_s, -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
-  const int r = oi::isSpecialRadius(radius_mm) ? radius_mm : std::clamp(radius_mm, -oi::MAX_RADIUS_MM, oi::MAX_RADIUS_MM);
+  const int r =
+      oi::isSpecialRadius(radius_mm) ? radius_mm : std::clamp(radius_mm, -oi::MAX_RADIUS_MM, oi::MAX_RADIUS_MM);
   out.push_back(oi::DRIVE);
   oi::appendInt16(out, v);
   oi::appendInt16(out, r);

@@ -107,7 +107,9 @@ bool Pty::link(const std::string& link_path, std::string* error)
       *error = "no pty open";
     return false;
   }
-  struct stat st{};
+  struct stat st
+  {
+  };
   if (::lstat(link_path.c_str(), &st) == 0 && !S_ISLNK(st.st_mode))
   {
     if (error)

@@ -116,9 +116,7 @@ WheelSpeeds driveRadiusToWheels(int velocity_mm_s, int radius_mm, double wheel_b
   return w;
 }
 
-VelocityLimiter::VelocityLimiter(const VelocityLimits& limits) : limits_(limits)
-{
-}
+VelocityLimiter::VelocityLimiter(const VelocityLimits& limits) : limits_(limits) {}
 
 void VelocityLimiter::reset(double linear, double angular)
 {

@@ -74,7 +74,8 @@ const std::vector<uint8_t>& members(uint8_t id)
   static const std::vector<uint8_t> g0 = range(7, 26), g1 = range(7, 16), g2 = range(17, 20), g3 = range(21, 26),
                                     g4 = range(27, 34), g5 = range(35, 42), g6 = range(7, 42), g100 = range(7, 58),
                                     g101 = range(43, 58), g106 = range(46, 51), g107 = range(54, 58);
-  static std::array<std::vector<uint8_t>, packet::MAX_SINGLE_ID + 1> singles = [] {
+  static std::array<std::vector<uint8_t>, packet::MAX_SINGLE_ID + 1> singles = []
+  {
     std::array<std::vector<uint8_t>, packet::MAX_SINGLE_ID + 1> a;
     for (int i = 7; i <= packet::MAX_SINGLE_ID; ++i)
       a[static_cast<size_t>(i)] = { static_cast<uint8_t>(i) };

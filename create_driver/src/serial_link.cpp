@@ -13,7 +13,8 @@ namespace create_driver
 
 void SerialLinkParams::validate() const
 {
-  auto require = [](bool ok, const char* message) {
+  auto require = [](bool ok, const char* message)
+  {
     if (!ok)
       throw std::invalid_argument(message);
   };
@@ -32,12 +33,12 @@ double steadyNow()
 }
 
 SerialLink::SerialLink(const SerialLinkParams& params, Handlers handlers)
-  : params_(params)
-  , handlers_(std::move(handlers))
-  , supervisor_(params.link)
-  , work_(boost::asio::make_work_guard(io_))
-  , port_(io_)
-  , timer_(io_)
+  : params_(params),
+    handlers_(std::move(handlers)),
+    supervisor_(params.link),
+    work_(boost::asio::make_work_guard(io_)),
+    port_(io_),
+    timer_(io_)
 {
   out_.reserve(512);
   pending_.reserve(params.max_pending_write + 512);
@@ -69,22 +70,24 @@ void SerialLink::stop(const Bytes& final_bytes, double timeout_s)
     return;
   auto done = std::make_shared<std::promise<void>>();
   std::future<void> fut = done->get_future();
-  boost::asio::post(io_, [this, final_bytes, done] {
-    stopping_ = true;
-    timer_.cancel();
-    if (port_.is_open() && !final_bytes.empty())
-    {
-      drain_done_ = done;
-      Bytes copy = final_bytes;
-      write(copy);
-      if (!writing_)
-        finishDrain();
-    }
-    else
-    {
-      done->set_value();
-    }
-  });
+  boost::asio::post(io_,
+                    [this, final_bytes, done]
+                    {
+                      stopping_ = true;
+                      timer_.cancel();
+                      if (port_.is_open() && !final_bytes.empty())
+                      {
+                        drain_done_ = done;
+                        Bytes copy = final_bytes;
+                        write(copy);
+                        if (!writing_)
+                          finishDrain();
+                      }
+                      else
+                      {
+                        done->set_value();
+                      }
+                    });
   fut.wait_for(std::chrono::duration<double>(timeout_s));
   io_.stop();
   thread_.join();
@@ -102,17 +105,19 @@ void SerialLink::finishDrain()
 
 void SerialLink::requestControl()
 {
-  boost::asio::post(io_, [this] {
-    if (stopping_)
-      return;
-    const LinkState s = supervisor_.state();
-    if ((s == LinkState::STARTING || s == LinkState::RUNNING) && handlers_.on_tick)
-    {
-      out_.clear();
-      handlers_.on_tick(steadyNow(), out_);
-      write(out_);
-    }
-  });
+  boost::asio::post(io_,
+                    [this]
+                    {
+                      if (stopping_)
+                        return;
+                      const LinkState s = supervisor_.state();
+                      if ((s == LinkState::STARTING || s == LinkState::RUNNING) && handlers_.on_tick)
+                      {
+                        out_.clear();
+                        handlers_.on_tick(steadyNow(), out_);
+                        write(out_);
+                      }
+                    });
 }
 
 SerialLinkStats SerialLink::stats() const
@@ -143,10 +148,12 @@ void SerialLink::scheduleTick()
   if (next_tick_ < now)
     next_tick_ = now + period;  // fell behind: do not try to catch up
   timer_.expires_at(next_tick_);
-  timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (!ec)
-      onTick();
-  });
+  timer_.async_wait(
+      [this](const boost::system::error_code& ec)
+      {
+        if (!ec)
+          onTick();
+      });
 }
 
 void SerialLink::onTick()
@@ -228,7 +235,8 @@ void SerialLink::startRead()
 {
   const uint64_t gen = generation_;
   port_.async_read_some(boost::asio::buffer(read_buf_),
-                        [this, gen](const boost::system::error_code& ec, std::size_t n) {
+                        [this, gen](const boost::system::error_code& ec, std::size_t n)
+                        {
                           if (gen != generation_ || stopping_)
                             return;
                           if (ec)
@@ -242,7 +250,8 @@ void SerialLink::startRead()
                             stats_.bytes_read += n;
                           }
                           out_.clear();
-                          const size_t frames = handlers_.on_data ? handlers_.on_data(read_buf_.data(), n, now, out_) : 0;
+                          const size_t frames =
+                              handlers_.on_data ? handlers_.on_data(read_buf_.data(), n, now, out_) : 0;
                           if (frames > 0)
                           {
                             const LinkState before = supervisor_.state();
@@ -278,7 +287,8 @@ void SerialLink::startWrite()
   writing_ = true;
   const uint64_t gen = generation_;
   boost::asio::async_write(port_, boost::asio::buffer(inflight_),
-                           [this, gen](const boost::system::error_code& ec, std::size_t n) {
+                           [this, gen](const boost::system::error_code& ec, std::size_t n)
+                           {
                              if (gen != generation_)
                                return;
                              writing_ = false;

@@ -26,13 +26,13 @@ int16_t clamp16(double v)
 }  // namespace
 
 SimRobot::SimRobot(const SimParams& params)
-  : params_(params)
-  , wheel_base_(params.wheel_base > 0.0 ? params.wheel_base : defaultWheelBase(params.model))
-  , m_per_count_(M_PI * 0.072 / 508.8)
-  , rng_(params.seed)
-  , baud_(defaultBaud(params.model))
-  , pose_(params.initial_pose)
-  , charge_mah_(params.battery_charge_mah)
+  : params_(params),
+    wheel_base_(params.wheel_base > 0.0 ? params.wheel_base : defaultWheelBase(params.model)),
+    m_per_count_(M_PI * 0.072 / 508.8),
+    rng_(params.seed),
+    baud_(defaultBaud(params.model)),
+    pose_(params.initial_pose),
+    charge_mah_(params.battery_charge_mah)
 {
   input_.reserve(params.max_input_queue);
   output_.reserve(1024);
@@ -300,9 +300,9 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       const size_t limit = streamPayloadLimit();
       if (payload > limit)
       {
-        refuse("Stream refused: " + std::to_string(payload) + " payload bytes, more than the " +
-               std::to_string(limit) + " that fit a " + std::to_string(std::lround(params_.stream_period * 1000.0)) +
-               " ms frame at " + std::to_string(baud_) + " baud; the previous stream continues");
+        refuse("Stream refused: " + std::to_string(payload) + " payload bytes, more than the " + std::to_string(limit) +
+               " that fit a " + std::to_string(std::lround(params_.stream_period * 1000.0)) + " ms frame at " +
+               std::to_string(baud_) + " baud; the previous stream continues");
         break;
       }
       stream_ids_.clear();
@@ -468,7 +468,8 @@ void SimRobot::step(double dt)
 void SimRobot::integrate(double h)
 {
   // Wheel dynamics.
-  auto approach = [&](double current, double target) {
+  auto approach = [&](double current, double target)
+  {
     if (params_.max_wheel_accel <= 0.0)
       return target;
     const double step = params_.max_wheel_accel * h;
@@ -493,7 +494,8 @@ void SimRobot::integrate(double h)
     dr_rep *= 1.0 + params_.odom_noise * normal_(rng_);
   }
   // True travel over the floor, with slip.
-  auto slip = [&](double base) {
+  auto slip = [&](double base)
+  {
     double s = base;
     if (params_.slip_noise > 0.0)
       s += std::fabs(params_.slip_noise * normal_(rng_));

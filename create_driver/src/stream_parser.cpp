@@ -6,8 +6,8 @@ namespace create_driver
 {
 namespace
 {
-constexpr size_t kChunk = 256;      // bytes appended per processing round (bounds the buffer)
-constexpr size_t kMinPayload = 2;   // one id and at least one data byte
+constexpr size_t kChunk = 256;     // bytes appended per processing round (bounds the buffer)
+constexpr size_t kMinPayload = 2;  // one id and at least one data byte
 }  // namespace
 
 StreamParser::StreamParser(Model model) : model_(model)
@@ -157,9 +157,7 @@ void StreamParser::reset()
   counters_ = ParserCounters();
 }
 
-ReplyParser::ReplyParser(Model model) : model_(model)
-{
-}
+ReplyParser::ReplyParser(Model model) : model_(model) {}
 
 bool ReplyParser::expect(const std::vector<uint8_t>& ids)
 {

@@ -51,10 +51,13 @@ TEST(CmdVelWatchdog, NonFiniteCommandsAreRejected)
   t.angular.z = 0.5;
   const double worst = sys.maxWheelOver(15, [&] { sys.cmd_pub.publish(t); });
   EXPECT_EQ(worst, 0.0) << "a NaN command moved the wheels";
-  EXPECT_TRUE(waitFor([&] {
-    double r = 0;
-    return diagValue(sys.diagnostics.get(), "Control loop", "rejected commands", &r) && r > rejected0;
-  })) << "rejected commands not counted";
+  EXPECT_TRUE(waitFor(
+      [&]
+      {
+        double r = 0;
+        return diagValue(sys.diagnostics.get(), "Control loop", "rejected commands", &r) && r > rejected0;
+      }))
+      << "rejected commands not counted";
 }
 
 int main(int argc, char** argv)

@@ -33,10 +33,13 @@ TEST(ContactLatch, ContactStopsAndLatchesUntilReset)
   ASSERT_TRUE(sys.driveUntil(0.15, 0.0, [&] { return sys.wheels() > 0.1; })) << "robot did not start";
   setContact(contact, 1);  // right bumper
   // Keep commanding forward: the latch must win.
-  ASSERT_TRUE(sys.driveUntil(0.15, 0.0, [&] {
-    const auto h = sys.hazards.get();
-    return h.latched && h.bump_right && sys.wheels() == 0.0;
-  })) << "contact did not stop and latch";
+  ASSERT_TRUE(sys.driveUntil(0.15, 0.0,
+                             [&]
+                             {
+                               const auto h = sys.hazards.get();
+                               return h.latched && h.bump_right && sys.wheels() == 0.0;
+                             }))
+      << "contact did not stop and latch";
   EXPECT_EQ(sys.hazards.get().latch_reason, sl_msgs::Hazards::LATCH_BUMPER);
 
   // Contact released: still latched, forward commands still do nothing.

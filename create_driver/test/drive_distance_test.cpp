@@ -16,8 +16,8 @@ namespace
 struct SimRun
 {
   cd::StopReason reason;
-  double final_position;   // m, after the robot has come to rest
-  double reported;         // travelled reported by the controller
+  double final_position;  // m, after the robot has come to rest
+  double reported;        // travelled reported by the controller
   double max_speed_seen;
 };
 

@@ -302,15 +302,14 @@ TEST_P(DriveDistanceLoop, EndsWithin5mm)
   EXPECT_NEAR(l.sim.truePose().y, 0.0, 0.005);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Goals, DriveDistanceLoop,
-    ::testing::Values(GoalCase{ 0.5, 0.2, false, cd::DriveCommandType::DIRECT },
-                      GoalCase{ 0.5, 0.01, false, cd::DriveCommandType::DIRECT },
-                      GoalCase{ 0.5, 0.5, false, cd::DriveCommandType::DIRECT },
-                      GoalCase{ -0.5, 0.2, false, cd::DriveCommandType::DIRECT },
-                      GoalCase{ 0.5, 0.3, false, cd::DriveCommandType::RADIUS },
-                      GoalCase{ 0.5, 0.2, true, cd::DriveCommandType::DIRECT },
-                      GoalCase{ -0.3, 0.4, true, cd::DriveCommandType::DIRECT }));
+INSTANTIATE_TEST_SUITE_P(Goals, DriveDistanceLoop,
+                         ::testing::Values(GoalCase{ 0.5, 0.2, false, cd::DriveCommandType::DIRECT },
+                                           GoalCase{ 0.5, 0.01, false, cd::DriveCommandType::DIRECT },
+                                           GoalCase{ 0.5, 0.5, false, cd::DriveCommandType::DIRECT },
+                                           GoalCase{ -0.5, 0.2, false, cd::DriveCommandType::DIRECT },
+                                           GoalCase{ 0.5, 0.3, false, cd::DriveCommandType::RADIUS },
+                                           GoalCase{ 0.5, 0.2, true, cd::DriveCommandType::DIRECT },
+                                           GoalCase{ -0.3, 0.4, true, cd::DriveCommandType::DIRECT }));
 
 TEST(DriverSimLoop, HeadingHoldKeepsLineDespiteNoisyOdometry)
 {
@@ -424,7 +423,8 @@ TEST(DriverSimLoop, BumpStopsLatchesAndResets)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  auto drive = [&](double v, double seconds) {
+  auto drive = [&](double v, double seconds)
+  {
     for (double s = 0; s < seconds; s += 0.1)
     {
       l.drv.setVelocity(v, 0.0, l.t, nullptr);

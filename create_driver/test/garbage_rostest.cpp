@@ -24,22 +24,25 @@ TEST(Garbage, CountedAndSurvived)
   double corrupt = corrupt0;
   int injections = 0;
   // Inject until the corruption shows up in the diagnostics (each injection corrupts a frame).
-  ASSERT_TRUE(waitFor([&] {
-    if (injections < 50)
-    {
-      std_srvs::Trigger t;
-      if (ros::service::call("create_sim/inject_garbage", t) && t.response.success)
-        ++injections;
-    }
-    return diagValue(sys.diagnostics.get(), "Sensor stream", "corrupt frames", &corrupt) && corrupt > corrupt0;
-  })) << "garbage not counted";
+  ASSERT_TRUE(waitFor(
+      [&]
+      {
+        if (injections < 50)
+        {
+          std_srvs::Trigger t;
+          if (ros::service::call("create_sim/inject_garbage", t) && t.response.success)
+            ++injections;
+        }
+        return diagValue(sys.diagnostics.get(), "Sensor stream", "corrupt frames", &corrupt) && corrupt > corrupt0;
+      }))
+      << "garbage not counted";
   EXPECT_GE(injections, 1);
 
   // Frames keep flowing and the link never dropped.
   double valid = valid0;
-  ASSERT_TRUE(waitFor([&] {
-    return diagValue(sys.diagnostics.get(), "Sensor stream", "valid frames", &valid) && valid > valid0 + 100;
-  }));
+  ASSERT_TRUE(waitFor(
+      [&]
+      { return diagValue(sys.diagnostics.get(), "Sensor stream", "valid frames", &valid) && valid > valid0 + 100; }));
   EXPECT_EQ(sys.mode.get().connects, connects0) << "garbage caused a reconnect";
   EXPECT_EQ(sys.mode.get().link_state, create_driver::Mode::LINK_RUNNING);
 

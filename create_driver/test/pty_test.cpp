@@ -166,7 +166,9 @@ TEST(Pty, LinkReplacesStaleSymlinkButNotFiles)
   ASSERT_GT(::readlink(link.c_str(), target, sizeof(target) - 1), 0);
   EXPECT_EQ(std::string(target), pty.slavePath());
   pty.unlink();
-  struct stat st{};
+  struct stat st
+  {
+  };
   EXPECT_NE(::lstat(link.c_str(), &st), 0) << "link not removed";
 
   // A regular file is never replaced.

@@ -16,10 +16,12 @@ TEST(Reconnect, ReopenedPtyReconnectsAndStops)
   ros::NodeHandle nh;
   System sys(nh);
   std::atomic<bool> saw_down{ false };
-  sys.mode.setHook([&](const create_driver::Mode& m) {
-    if (m.link_state != create_driver::Mode::LINK_RUNNING)
-      saw_down = true;
-  });
+  sys.mode.setHook(
+      [&](const create_driver::Mode& m)
+      {
+        if (m.link_state != create_driver::Mode::LINK_RUNNING)
+          saw_down = true;
+      });
   ASSERT_TRUE(sys.waitRunning());
   saw_down = false;
   const uint32_t connects0 = sys.mode.get().connects;
@@ -33,17 +35,23 @@ TEST(Reconnect, ReopenedPtyReconnectsAndStops)
   ASSERT_TRUE(reopen.response.success);
 
   ASSERT_TRUE(waitFor([&] { return saw_down.load(); })) << "driver never noticed the link going down";
-  ASSERT_TRUE(waitFor([&] {
-    const auto m = sys.mode.get();
-    return m.connects > connects0 && m.link_state == create_driver::Mode::LINK_RUNNING;
-  })) << "no reconnect";
+  ASSERT_TRUE(waitFor(
+      [&]
+      {
+        const auto m = sys.mode.get();
+        return m.connects > connects0 && m.link_state == create_driver::Mode::LINK_RUNNING;
+      }))
+      << "no reconnect";
   EXPECT_GT(sys.status.get().pty_opens, opens0);
 
   // Reconnected: Start + Safe + stop were sent.
-  ASSERT_TRUE(waitFor([&] {
-    const auto s = sys.status.get();
-    return s.mode == create_driver::Mode::SAFE && sys.wheels() == 0.0;
-  })) << "robot not stopped in Safe mode after the reconnect";
+  ASSERT_TRUE(waitFor(
+      [&]
+      {
+        const auto s = sys.status.get();
+        return s.mode == create_driver::Mode::SAFE && sys.wheels() == 0.0;
+      }))
+      << "robot not stopped in Safe mode after the reconnect";
   EXPECT_EQ(sys.maxWheelOver(15), 0.0) << "the old cmd_vel was resumed";
 
   double disconnects = 0;
@@ -67,10 +75,13 @@ TEST(Reconnect, PowerCycledRobotIsRestarted)
   std_srvs::Trigger power;
   ASSERT_TRUE(ros::service::call("create_sim/power_cycle", power));
   ASSERT_TRUE(waitFor([&] { return sys.status.get().mode == create_driver::Mode::OFF; }));
-  ASSERT_TRUE(waitFor([&] {
-    const auto s = sys.status.get();
-    return s.mode == create_driver::Mode::SAFE && s.streaming;
-  })) << "driver did not restart a power-cycled robot";
+  ASSERT_TRUE(waitFor(
+      [&]
+      {
+        const auto s = sys.status.get();
+        return s.mode == create_driver::Mode::SAFE && s.streaming;
+      }))
+      << "driver did not restart a power-cycled robot";
   ASSERT_TRUE(sys.waitRunning());
 }
 

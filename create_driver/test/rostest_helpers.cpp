@@ -19,8 +19,8 @@ bool waitFor(const std::function<bool()>& cond, double timeout_s)
   return cond();
 }
 
-bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix,
-               const std::string& key, double* value)
+bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix, const std::string& key,
+               double* value)
 {
   for (const auto& st : array.status)
   {
@@ -40,7 +40,8 @@ bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string&
 bool System::waitRunning(double timeout_s)
 {
   return waitFor(
-      [&] {
+      [&]
+      {
         const auto m = mode.get();
         return mode.count() > 0 && m.link_state == create_driver::Mode::LINK_RUNNING &&
                m.mode == create_driver::Mode::SAFE && status.count() > 0 && pose.count() > 0;
@@ -79,16 +80,20 @@ double System::maxWheelOver(uint64_t n, const std::function<void()>& each_tick)
   // Every message counts (the hook), not only those a poll happens to see.
   double worst = 0.0;
   uint64_t seen = 0;
-  status.setHook([&](const create_driver::SimStatus& s) {
-    worst = std::max(worst, std::max(std::fabs(s.left_wheel_velocity), std::fabs(s.right_wheel_velocity)));
-    ++seen;
-  });
+  status.setHook(
+      [&](const create_driver::SimStatus& s)
+      {
+        worst = std::max(worst, std::max(std::fabs(s.left_wheel_velocity), std::fabs(s.right_wheel_velocity)));
+        ++seen;
+      });
   const uint64_t target = status.count() + n;
-  waitFor([&] {
-    if (each_tick)
-      each_tick();
-    return status.count() >= target;
-  });
+  waitFor(
+      [&]
+      {
+        if (each_tick)
+          each_tick();
+        return status.count() >= target;
+      });
   status.setHook({});
   // Wheels that "stayed stopped" because the simulator went quiet prove nothing.
   if (seen < n)

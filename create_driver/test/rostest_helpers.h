@@ -31,13 +31,15 @@ class Latest
 public:
   Latest(ros::NodeHandle& nh, const std::string& topic)
   {
-    sub_ = nh.subscribe<M>(topic, 50, [this](const typename M::ConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      msg_ = *m;
-      ++count_;
-      if (hook_)
-        hook_(*m);
-    });
+    sub_ = nh.subscribe<M>(topic, 50,
+                           [this](const typename M::ConstPtr& m)
+                           {
+                             std::lock_guard<std::mutex> lock(mutex_);
+                             msg_ = *m;
+                             ++count_;
+                             if (hook_)
+                               hook_(*m);
+                           });
   }
   M get() const
   {
@@ -72,14 +74,17 @@ private:
 
 /// @brief Value of @p key in the diagnostic status whose name ends with @p status_suffix.
 /// @return false if not present in @p array
-bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix,
-               const std::string& key, double* value);
+bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix, const std::string& key,
+               double* value);
 
 /// @brief Common fixture state: the driver's mode, the simulator's status and true pose.
 struct System
 {
   explicit System(ros::NodeHandle& nh)
-    : mode(nh, "mode"), status(nh, "create_sim/status"), pose(nh, "true_pose"), hazards(nh, "hazards"),
+    : mode(nh, "mode"),
+      status(nh, "create_sim/status"),
+      pose(nh, "true_pose"),
+      hazards(nh, "hazards"),
       diagnostics(nh, "/diagnostics")
   {
     cmd_pub = nh.advertise<geometry_msgs::Twist>("cmd_vel", 10);

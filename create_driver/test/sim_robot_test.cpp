@@ -50,10 +50,13 @@ bool returnsWithin(double seconds, const std::function<void()>& f)
 {
   auto done = std::make_shared<std::promise<void>>();
   std::future<void> finished = done->get_future();
-  std::thread([f, done]() {
-    f();
-    done->set_value();
-  }).detach();
+  std::thread(
+      [f, done]()
+      {
+        f();
+        done->set_value();
+      })
+      .detach();
   return finished.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready;
 }
 
@@ -400,7 +403,8 @@ TEST(SimRobot, SlipAndNoiseAreDeterministicForASeed)
   p.slip_noise = 0.02;
   p.odom_noise = 0.05;
   p.seed = 7;
-  auto run = [&](uint32_t seed) {
+  auto run = [&](uint32_t seed)
+  {
     p.seed = seed;
     cd::SimRobot r = safeRobot(p);
     send(r, cd::encodeDriveDirect(200, 200));
@@ -565,7 +569,7 @@ TEST(SimRobot, StreamLimitFollowsTheBaudRate)
 {
   cd::SimRobot r = safeRobot();
   EXPECT_EQ(r.streamPayloadLimit(), 83u);  // Create at 57600 baud: 86 bytes in 15 ms, less 3
-  send(r, { 148, 2, 6, 6 });                // 2 x (1 + 52) = 106 bytes
+  send(r, { 148, 2, 6, 6 });               // 2 x (1 + 52) = 106 bytes
   EXPECT_EQ(r.refusedCommands(), 1u);
   send(r, { 129, 11 });  // Baud 115200
   EXPECT_EQ(r.streamPayloadLimit(), 169u);

@@ -43,35 +43,40 @@ TEST(CameraAravisNode, StreamsTheFakeCameraWithCameraInfoAndDiagnostics)
   std::mutex mutex;
   std::vector<sensor_msgs::ImageConstPtr> images;
   std::vector<sensor_msgs::CameraInfoConstPtr> infos;
-  image_transport::CameraSubscriber sub = it.subscribeCamera(
-      "aravis/image_raw", 100,
-      [&](const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info) {
-        std::lock_guard<std::mutex> lock(mutex);
-        images.push_back(image);
-        infos.push_back(info);
-      });
+  image_transport::CameraSubscriber sub =
+      it.subscribeCamera("aravis/image_raw", 100,
+                         [&](const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info)
+                         {
+                           std::lock_guard<std::mutex> lock(mutex);
+                           images.push_back(image);
+                           infos.push_back(info);
+                         });
   diagnostic_msgs::DiagnosticStatus capture;
   bool have_capture = false;
-  ros::Subscriber diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 50, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
-        std::lock_guard<std::mutex> lock(mutex);
-        for (const auto& s : msg->status)
-          if (s.name == "aravis/camera: capture")
-          {
-            capture = s;
-            have_capture = true;
-          }
-      });
+  ros::Subscriber diag_sub =
+      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 50,
+                                                     [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg)
+                                                     {
+                                                       std::lock_guard<std::mutex> lock(mutex);
+                                                       for (const auto& s : msg->status)
+                                                         if (s.name == "aravis/camera: capture")
+                                                         {
+                                                           capture = s;
+                                                           have_capture = true;
+                                                         }
+                                                     });
 
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         std::lock_guard<std::mutex> lock(mutex);
         return images.size() >= 10;
       },
       60.0))
       << "no images from the fake camera";
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         std::lock_guard<std::mutex> lock(mutex);
         return have_capture && capture.level == capture.OK && valueOf(capture, "frames") != "0";
       },

@@ -61,13 +61,8 @@ struct FakeDevice
 class FakeSource : public FrameSource
 {
 public:
-  explicit FakeSource(std::shared_ptr<FakeDevice> device) : device_(std::move(device))
-  {
-  }
-  std::string description() const override
-  {
-    return "fake camera /dev/fake0";
-  }
+  explicit FakeSource(std::shared_ptr<FakeDevice> device) : device_(std::move(device)) {}
+  std::string description() const override { return "fake camera /dev/fake0"; }
   void open() override
   {
     ++device_->opens;
@@ -117,8 +112,9 @@ public:
     }
     frame.sequence = step.sequence;
     frame.has_sequence = step.has_sequence;
-    frame.stamp = scripted ? base_ + std::chrono::duration_cast<CaptureClock::duration>(std::chrono::duration<double>(step.t)) :
-                             CaptureClock::now();
+    frame.stamp =
+        scripted ? base_ + std::chrono::duration_cast<CaptureClock::duration>(std::chrono::duration<double>(step.t))
+                 : CaptureClock::now();
     next_sequence_ = step.sequence + 1;
     return GrabStatus::Frame;
   }
@@ -132,18 +128,9 @@ public:
     open_ = false;
     device_->closing = false;
   }
-  bool isOpen() const override
-  {
-    return open_;
-  }
-  bool waiting() const override
-  {
-    return open_ && device_->holding;
-  }
-  double nominalRate() const override
-  {
-    return device_->rate;
-  }
+  bool isOpen() const override { return open_; }
+  bool waiting() const override { return open_ && device_->holding; }
+  double nominalRate() const override { return device_->rate; }
 
 private:
   std::shared_ptr<FakeDevice> device_;
@@ -185,14 +172,16 @@ struct Recorder
 
   CaptureThread::FrameCallback frames()
   {
-    return [this](const Frame& f) {
+    return [this](const Frame& f)
+    {
       std::lock_guard<std::mutex> lock(mutex);
       sequences.push_back(f.sequence);
     };
   }
   CaptureThread::EventCallback eventsCallback()
   {
-    return [this](const CaptureEvent& e) {
+    return [this](const CaptureEvent& e)
+    {
       std::lock_guard<std::mutex> lock(mutex);
       events.push_back(e);
     };
@@ -262,10 +251,12 @@ TEST(CameraCaptureThread, DeviceThatDisappearsIsReopenedWhenItComesBack)
   const std::uint64_t frames_before = s.frames;
 
   device->present = true;  // plugged in again
-  ASSERT_TRUE(waitUntil([&] {
-    const auto st = capture.stats();
-    return st.reconnects == 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
-  }));
+  ASSERT_TRUE(waitUntil(
+      [&]
+      {
+        const auto st = capture.stats();
+        return st.reconnects == 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
+      }));
   capture.stop();
   s = capture.stats();
   EXPECT_EQ(s.reconnects, 1u);
@@ -283,9 +274,9 @@ TEST(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
     device->script.push_back(Step{ Step::Image, seq, true, 0.0 });
   device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });
   device->script.push_back(Step{ Step::Image, 17, true, 0.0 });
-  device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });  // frame 18, incomplete
+  device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });     // frame 18, incomplete
   device->script.push_back(Step{ Step::Image, 19, true, 0.0 });  // its gap is that frame: counted once
-  device->script.push_back(Step{ Step::Image, 3, true, 0.0 });  // counter reset: not a loss
+  device->script.push_back(Step{ Step::Image, 3, true, 0.0 });   // counter reset: not a loss
   device->script.push_back(Step{ Step::Image, 4, true, 0.0 });
   Recorder rec;
   CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
@@ -356,10 +347,12 @@ TEST(CameraCaptureThread, StalledSourceIsTreatedAsLostAndReopened)
   EXPECT_NE(capture.stats().last_error.find("/dev/fake0"), std::string::npos);
   const std::uint64_t frames_before = capture.stats().frames;
   device->stalled = false;
-  ASSERT_TRUE(waitUntil([&] {
-    const auto st = capture.stats();
-    return st.reconnects >= 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
-  }));
+  ASSERT_TRUE(waitUntil(
+      [&]
+      {
+        const auto st = capture.stats();
+        return st.reconnects >= 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
+      }));
   capture.stop();
   EXPECT_GE(device->opens.load(), 2);
 }
@@ -390,7 +383,8 @@ TEST(CameraCaptureThread, CallbackExceptionsAndWarningsAreReportedNotFatal)
   std::atomic<int> calls{ 0 };
   CaptureThread capture(
       std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(),
-      [&](const Frame&) {
+      [&](const Frame&)
+      {
         if (calls++ == 0)
           throw std::runtime_error("subscriber exploded");
       },
@@ -439,10 +433,12 @@ TEST(CameraCaptureThread, ADeviceThatOpensButNeverDeliversIsOverdueAndNeverRecov
   CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
   capture.start();
   // While open without frames, the stats say so (the diagnostics turn this into an error).
-  ASSERT_TRUE(waitUntil([&] {
-    const auto st = capture.stats();
-    return st.state == CaptureState::Streaming && st.overdue && !st.have_frame;
-  }));
+  ASSERT_TRUE(waitUntil(
+      [&]
+      {
+        const auto st = capture.stats();
+        return st.state == CaptureState::Streaming && st.overdue && !st.have_frame;
+      }));
   capture.stop();
   EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::FirstFrame).empty());
   EXPECT_EQ(capture.stats().frames, 0u);

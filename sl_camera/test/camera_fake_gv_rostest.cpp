@@ -184,7 +184,8 @@ TEST(CameraFakeGv, StreamsFullFrameMono8AtTheSetRate)
   ASSERT_GT(g_camera, 0) << "cannot start arv-fake-gv-camera-0.8 (install aravis-tools)";
   expectFullFramesAtRate(30, 0.05);
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         std::lock_guard<std::mutex> lock(g_watch->mutex);
         return g_watch->capture.level == diagnostic_msgs::DiagnosticStatus::OK &&
                g_watch->rate.level == diagnostic_msgs::DiagnosticStatus::OK;
@@ -194,7 +195,8 @@ TEST(CameraFakeGv, StreamsFullFrameMono8AtTheSetRate)
   EXPECT_EQ(g_watch->capture.message, "streaming");
   EXPECT_EQ(valueOf(g_watch->capture, "device rate (Hz)"), "10");
   // The stream may start in the middle of a frame: at most that one is incomplete.
-  EXPECT_LE(std::atoi(valueOf(g_watch->capture, "dropped frames").c_str()), 1) << valueOf(g_watch->capture, "last error");
+  EXPECT_LE(std::atoi(valueOf(g_watch->capture, "dropped frames").c_str()), 1)
+      << valueOf(g_watch->capture, "last error");
   EXPECT_EQ(valueOf(g_watch->capture, "reconnects"), "0");
 }
 
@@ -215,7 +217,8 @@ TEST(CameraFakeGv, AKilledCameraIsAnErrorWithinTwoSeconds)
   // The bound: an ERROR on /diagnostics within 2 s of the camera's death.
   ros::WallTime error_at;
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         std::lock_guard<std::mutex> lock(g_watch->mutex);
         for (const auto& c : g_watch->captures)
           if (c.first > killed && c.second.level == diagnostic_msgs::DiagnosticStatus::ERROR)
@@ -252,12 +255,14 @@ TEST(CameraFakeGv, ARestartedCameraStreamsAgainWithinFiveSeconds)
 TEST(CameraFakeGv, StreamsFullFramesWithOnePercentPacketLoss)
 {
   ASSERT_GT(g_camera, 0);
-  const double frames_before = [] {
+  const double frames_before = []
+  {
     std::lock_guard<std::mutex> lock(g_watch->mutex);
     return std::atof(valueOf(g_watch->capture, "frames").c_str()) +
            std::atof(valueOf(g_watch->capture, "dropped frames").c_str());
   }();
-  const double dropped_before = [] {
+  const double dropped_before = []
+  {
     std::lock_guard<std::mutex> lock(g_watch->mutex);
     return std::atof(valueOf(g_watch->capture, "dropped frames").c_str());
   }();

@@ -88,10 +88,7 @@ bool waitUntil(const std::function<bool()>& done, double timeout_s)
 class DiagnosticsWatch
 {
 public:
-  DiagnosticsWatch()
-  {
-    sub_ = nh_.subscribe("/diagnostics", 50, &DiagnosticsWatch::callback, this);
-  }
+  DiagnosticsWatch() { sub_ = nh_.subscribe("/diagnostics", 50, &DiagnosticsWatch::callback, this); }
   /// The latest status named @p name ("ns/node: task"), if any. (Exact: "calibrated/camera" is a
   /// suffix of "uncalibrated/camera".)
   bool find(const std::string& name, diagnostic_msgs::DiagnosticStatus& out)
@@ -233,12 +230,14 @@ TEST(CameraPlayerNode, MissingFolderAtStartIsReportedThenPlayedOnceItAppears)
     camera.take(images, infos);
     ASSERT_GE(images.size(), 3u);
     for (size_t k = 0; k < 3; ++k)
-      EXPECT_EQ(imageIndex(*images[k]), static_cast<int>(k)) << "image " << k << " of a subscriber from before the start";
+      EXPECT_EQ(imageIndex(*images[k]), static_cast<int>(k))
+          << "image " << k << " of a subscriber from before the start";
   }
   // (OK "waiting for a subscriber to start playback" may come first, if the folder was listed
   // before the subscription was connected.)
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         return diagnostics.find("calibrated/camera: capture", status) && status.level == status.OK &&
                status.message == "streaming";
       },
@@ -325,7 +324,8 @@ TEST(CameraPlayerNode, PlayerWaitsForItsFirstSubscriberWhoGetsFrameZeroAndUnread
   diagnostic_msgs::DiagnosticStatus status;
   // The folder is listed (open), but nothing is played before someone subscribes.
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         return diagnostics.find("early/camera: capture", status) &&
                status.message == "waiting for a subscriber to start playback";
       },
@@ -369,7 +369,8 @@ TEST(CameraPlayerNode, FolderThatNeverAppearsIsAnErrorNotACrash)
   DiagnosticsWatch diagnostics;
   diagnostic_msgs::DiagnosticStatus status;
   ASSERT_TRUE(waitUntil(
-      [&] {
+      [&]
+      {
         return diagnostics.find("missing/camera: capture", status) && status.level == status.ERROR &&
                DiagnosticsWatch::count(status, "failed opens") >= 2;
       },
@@ -397,7 +398,8 @@ TEST(CameraNode, InvalidParametersFailNamingThem)
   for (const auto& c : cases)
   {
     std::string out;
-    const int status = run("rosrun sl_camera camera_node __name:=bad_camera" + std::to_string(n++) + " " + c.first, out);
+    const int status =
+        run("rosrun sl_camera camera_node __name:=bad_camera" + std::to_string(n++) + " " + c.first, out);
     EXPECT_NE(status, 0) << c.first << ":\n" << out;
     EXPECT_NE(out.find(c.second), std::string::npos) << c.first << ":\n" << out;
   }
@@ -407,10 +409,11 @@ TEST(CameraNode, SizeOtherThanTheRigsFailsAtStartNamingBothSizesAndTheFile)
 {
   // Checked before any device is opened: /dev/null is never read.
   std::string out;
-  const int status = run("rosrun sl_camera camera_node __name:=bad_size_camera _backend:=v4l2 _device:=/dev/null "
-                         "_width:=640 _height:=400 _calibration_file:=" +
-                             g_rig_file,
-                         out);
+  const int status =
+      run("rosrun sl_camera camera_node __name:=bad_size_camera _backend:=v4l2 _device:=/dev/null "
+          "_width:=640 _height:=400 _calibration_file:=" +
+              g_rig_file,
+          out);
   EXPECT_NE(status, 0) << out;
   EXPECT_NE(out.find("640 x 400"), std::string::npos) << out;
   EXPECT_NE(out.find("752 x 480"), std::string::npos) << out;

@@ -44,14 +44,8 @@ public:
     std::error_code ec;
     fs::remove_all(path_, ec);
   }
-  std::string file(const std::string& name) const
-  {
-    return (fs::path(path_) / name).string();
-  }
-  const std::string& path() const
-  {
-    return path_;
-  }
+  std::string file(const std::string& name) const { return (fs::path(path_) / name).string(); }
+  const std::string& path() const { return path_; }
 
 private:
   std::string path_;
@@ -144,18 +138,9 @@ TEST(CameraPlayer, LoopStartsOver)
 class FakePacingClock : public PlayerSource::PacingClock
 {
 public:
-  std::chrono::steady_clock::time_point now() override
-  {
-    return now_;
-  }
-  void sleepUntil(std::chrono::steady_clock::time_point t) override
-  {
-    now_ = std::max(now_, t);
-  }
-  void advance(std::chrono::steady_clock::duration d)
-  {
-    now_ += d;
-  }
+  std::chrono::steady_clock::time_point now() override { return now_; }
+  void sleepUntil(std::chrono::steady_clock::time_point t) override { now_ = std::max(now_, t); }
+  void advance(std::chrono::steady_clock::duration d) { now_ += d; }
 
 private:
   std::chrono::steady_clock::time_point now_{ std::chrono::hours(1) };

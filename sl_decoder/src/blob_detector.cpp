@@ -50,9 +50,7 @@ void prefixSum(const int32_t* __restrict v, int32_t* __restrict pre, int w)
 }
 }  // namespace
 
-BlobDetector::BlobDetector(const DecoderConfig& config) : config_(config)
-{
-}
+BlobDetector::BlobDetector(const DecoderConfig& config) : config_(config) {}
 
 inline int BlobDetector::find(int i)
 {
@@ -388,8 +386,8 @@ void BlobDetector::splitOversized(const cv::Mat& image, const Region& component,
     {
       Blob& part = region_part.box;
       part.level = level;
-      const bool small = primitive_w_ <= 0.0 ||
-                         (part.width() <= 1.4 * primitive_w_ && part.height() <= 1.4 * primitive_h_);
+      const bool small =
+          primitive_w_ <= 0.0 || (part.width() <= 1.4 * primitive_w_ && part.height() <= 1.4 * primitive_h_);
       if (primitiveSized(part) && small)
       {
         if (weighAbove(image, region_part, threshold))
@@ -452,8 +450,8 @@ float edgeAt(const cv::Mat& image, int x, int y_in, int step, int reach, int t)
       break;
     const int v = image.ptr<uint8_t>(y)[x];
     if (v <= t && prev > t)
-      return static_cast<float>(y - step) + static_cast<float>(step) * static_cast<float>(prev - t) /
-                                                   static_cast<float>(prev - v);
+      return static_cast<float>(y - step) +
+             static_cast<float>(step) * static_cast<float>(prev - t) / static_cast<float>(prev - v);
     prev = v;
   }
   return std::numeric_limits<float>::quiet_NaN();
@@ -481,7 +479,8 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
     bottom_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, 1, reach, t);
   }
   // The phase of the height profile at the pattern's pitch, over +-3 pitches around x.
-  auto centreNear = [&](double x) {
+  auto centreNear = [&](double x)
+  {
     const double omega = 2.0 * M_PI / pitch_;
     double re = 0.0, im = 0.0;
     const int i0 = std::max(0, static_cast<int>(x - band.x0 - 3.0 * pitch_));
@@ -497,7 +496,8 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
     const double phase = std::atan2(im, re) / omega;  // a centre, modulo the pitch
     return phase + std::round((x - phase) / pitch_) * pitch_;
   };
-  auto mean = [&](const std::vector<float>& edge, double a, double b) {
+  auto mean = [&](const std::vector<float>& edge, double a, double b)
+  {
     double sum = 0.0;
     int count = 0;
     for (int i = std::max(0, static_cast<int>(std::ceil(a)) - band.x0);
@@ -517,7 +517,8 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
       continue;
     x = c;  // follow the local phase
     // Up is negative: a top edge higher on the left is a left top band.
-    const double top_lr = mean(top_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(top_, c + 0.15 * pitch_, c + 0.45 * pitch_);
+    const double top_lr =
+        mean(top_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(top_, c + 0.15 * pitch_, c + 0.45 * pitch_);
     const double bottom_lr =
         mean(bottom_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(bottom_, c + 0.15 * pitch_, c + 0.45 * pitch_);
     const double yt = mean(top_, c - 1.0, c + 1.0), yb = mean(bottom_, c - 1.0, c + 1.0);

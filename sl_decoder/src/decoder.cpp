@@ -44,11 +44,11 @@ int popcount4(uint8_t bits)
 }  // namespace
 
 Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
-  : rig_(rig)
-  , config_(config)
-  , pattern_(rig.pattern)
-  , detector_(config)
-  , classifier_(config, rig.pattern.primitive_width, rig.pattern.primitive_height)
+  : rig_(rig),
+    config_(config),
+    pattern_(rig.pattern),
+    detector_(config),
+    classifier_(config, rig.pattern.primitive_width, rig.pattern.primitive_height)
 {
   config_.validate();
   rig_.validate();
@@ -227,7 +227,8 @@ void Decoder::findNeighbours(DecodeResult& result)
   std::vector<Blob>& blobs = result.blobs;
   const size_t cells = grid_cells_;
   grid_start_.assign(cells + 1, 0);
-  auto cellOf = [&](const Blob& b) {
+  auto cellOf = [&](const Blob& b)
+  {
     const int gx = std::min(grid_w_ - 1, std::max(0, static_cast<int>(b.u / grid_cell_)));
     const int gy = std::min(grid_h_ - 1, std::max(0, static_cast<int>(b.v / grid_cell_)));
     return static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
@@ -599,7 +600,8 @@ bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primit
   const std::vector<int>& values = pattern_.array().values();
   int present = 0, mismatches = 0;
   // Along a row from blob j (primitive p): up to @p reach blobs west and east, and j itself.
-  auto walkRow = [&](int j, int p, int reach) {
+  auto walkRow = [&](int j, int p, int reach)
+  {
     ++present;
     mismatches += blobs[static_cast<size_t>(j)].shape != values[static_cast<size_t>(p)];
     for (int d : { kWest, kEast })
@@ -745,8 +747,7 @@ void Decoder::computeDepth(DecodeResult& result)
     const bool outline = b.level == BlobDetector::kBandLevel;
     const float shape_term = std::min(1.f, outline ? b.margin / 2.f : b.margin / 0.3f);
     const float support_term = static_cast<float>(b.support) / 4.f;
-    const float epipolar_term =
-        std::max(0.f, 1.f - b.epipolar_error / static_cast<float>(config_.epipolar_tolerance));
+    const float epipolar_term = std::max(0.f, 1.f - b.epipolar_error / static_cast<float>(config_.epipolar_tolerance));
     // How it was identified: a blob split out of a merged one, or read from a saturated outline, is
     // less certain than one found whole (the row check stands behind it, not its own shape).
     const float method = outline ? kOutlineWeight : b.level > 0 ? kSplitWeight : 1.f;

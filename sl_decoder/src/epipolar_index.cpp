@@ -41,7 +41,8 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
     }
 
   // Point of primitive i's ray at camera depth z (camera optical frame).
-  auto pointAtDepth = [&](int i, double z, Eigen::Vector3d& point) {
+  auto pointAtDepth = [&](int i, double z, Eigen::Vector3d& point)
+  {
     const Eigen::Vector3d& d = directions_[static_cast<size_t>(i)];
     if (std::abs(d.z()) < 1e-9)
       return false;

@@ -17,17 +17,17 @@ namespace
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kSampleSpacing = 4.0;  // px between consecutive samples (one light-map block)
 constexpr int kMaxSamples = 256;
-constexpr int kFloorMargin = 6;         // px: floor pixels this close to the border are not tested
-constexpr float kFloorLight = 0.35f;    // floor light: centre line mean above the background, noise floors
+constexpr int kFloorMargin = 6;            // px: floor pixels this close to the border are not tested
+constexpr float kFloorLight = 0.35f;       // floor light: centre line mean above the background, noise floors
 constexpr float kStrongFloorLight = 0.5f;  // floor light that needs no walk up to the floor, noise floors
-constexpr float kFloorGap = 0.7f;        // the gaps beside the floor light darker by this fraction of it
-constexpr int kBorderBlocks = 2;        // light-map blocks at the image border whose light is nobody's own
-constexpr float kSupport = 0.03f;       // m: a suspect needs a neighbouring row's decoded or lit end this close
-constexpr int kSupportCols = 2;         // ... in a column at most this far from its own
-constexpr int kGlowSupportCols = 3;     // columns searched for a surface behind a suspect in the glow zone
-constexpr float kOnFloor = 0.95f;       // a decoded point beyond this fraction of its ray's floor depth is on the floor
+constexpr float kFloorGap = 0.7f;          // the gaps beside the floor light darker by this fraction of it
+constexpr int kBorderBlocks = 2;           // light-map blocks at the image border whose light is nobody's own
+constexpr float kSupport = 0.03f;          // m: a suspect needs a neighbouring row's decoded or lit end this close
+constexpr int kSupportCols = 2;            // ... in a column at most this far from its own
+constexpr int kGlowSupportCols = 3;        // columns searched for a surface behind a suspect in the glow zone
+constexpr float kOnFloor = 0.95f;  // a decoded point beyond this fraction of its ray's floor depth is on the floor
 constexpr float kGlowChainDepth = 0.08f;  // m: a confirmed glow suspect of a neighbouring row this near in depth
-constexpr float kNearFloor = 0.9f;      // a walk stopped beyond this fraction of the floor depth reached it
+constexpr float kNearFloor = 0.9f;        // a walk stopped beyond this fraction of the floor depth reached it
 
 void check(bool ok, const char* field, const std::string& rule)
 {
@@ -206,8 +206,8 @@ void RayClassifier::precomputeFloor(const sl_projector::Rig& rig, const sl_proje
   p.floor_gain = static_cast<float>(std::abs(up.dot(directions_[static_cast<size_t>(index)].cast<double>())) /
                                     (hit.z() * hit.z()));
   const Eigen::Vector2d q = rig.camera.project(hit);
-  const bool in_view = q.x() >= kFloorMargin && q.y() >= kFloorMargin && q.x() < width_ - kFloorMargin &&
-                       q.y() < height_ - kFloorMargin;
+  const bool in_view =
+      q.x() >= kFloorMargin && q.y() >= kFloorMargin && q.x() < width_ - kFloorMargin && q.y() < height_ - kFloorMargin;
   if (hit.z() < min_depth_ || hit.z() > config_.max_range || !in_view)
     return;
   // The primitive's box rows in the displayed frame (flips applied).
@@ -260,7 +260,8 @@ bool RayClassifier::precomputeFootprint(const sl_projector::Rig& rig, const sl_p
       v_min = std::min(v_min, q.y());
       v_max = std::max(v_max, q.y());
     }
-  auto block = [](double v, int size) {
+  auto block = [](double v, int size)
+  {
     const long px = std::min(std::max(static_cast<long>(std::floor(v)), 0L), static_cast<long>(size - 1));
     return static_cast<int16_t>(px >> kShift);
   };
@@ -320,8 +321,8 @@ inline void blockStats4(const uint8_t* const r[4], int x, uint8_t* peak, uint8_t
 void min5(const uint8_t* __restrict padded, uint8_t* __restrict out, int n)
 {
   for (int i = 0; i < n; ++i)
-    out[i] = std::min(std::min(std::min(padded[i], padded[i + 1]), std::min(padded[i + 3], padded[i + 4])),
-                      padded[i + 2]);
+    out[i] =
+        std::min(std::min(std::min(padded[i], padded[i + 1]), std::min(padded[i + 3], padded[i + 4])), padded[i + 2]);
 }
 
 /// out[i] = min(out[i], in[i]).
@@ -533,15 +534,16 @@ int RayClassifier::walkSegment(const Primitive& p, int& last_free_out, int& stop
     // brightness above the frame's dark level; saturation always.
     const int peak = peaks[s.block];
     const float light = static_cast<float>(peak - backgrounds[s.block]);
-    const bool glow = s.z < glow_depth &&
-                      static_cast<float>(means[s.block] - dark) >= std::max(2.f * noise, k_glow * s.inv_z2);
+    const bool glow =
+        s.z < glow_depth && static_cast<float>(means[s.block] - dark) >= std::max(2.f * noise, k_glow * s.inv_z2);
     if (peak >= saturated || glow || light >= std::max(noise, k_contrast * s.inv_z2))
     {
       // Someone else's light: a blob identified as another shape, or light at the image border,
       // where blobs are cut and cannot be identified (the pattern is wider than the view).
       const uint8_t shape = shapes[s.block];
       const int bx = s.block % bw, by = s.block / bw;
-      const bool border = bx < kBorderBlocks || by < kBorderBlocks || bx >= bw - kBorderBlocks || by >= bh - kBorderBlocks;
+      const bool border =
+          bx < kBorderBlocks || by < kBorderBlocks || bx >= bw - kBorderBlocks || by >= bh - kBorderBlocks;
       stop = border || (shape != 0 && shape != 255 && shape != p.shape) ? kOther : kLit;
       last_free_out = last_free;
       return k;
@@ -677,8 +679,8 @@ bool RayClassifier::confirmed(const std::vector<RayOutcome>& outcomes, int i) co
   if (!(o.depth < glow_depth))
     return false;
   for (int rr = r - 1; rr <= r + 1; rr += 2)
-    for (int cc = std::max(0, c - kGlowSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kGlowSupportCols);
-         ++cc)
+    for (int cc = std::max(0, c - kGlowSupportCols);
+         rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kGlowSupportCols); ++cc)
     {
       const size_t j = static_cast<size_t>(rr * cols_ + cc);
       const RayOutcome& q = outcomes[j];

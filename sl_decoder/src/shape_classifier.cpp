@@ -125,8 +125,8 @@ void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
   }
   const float sum = s1[0] + s1[1] + s1[2] + s1[3];
   const float sum_sq = s2[0] + s2[1] + s2[2] + s2[3];
-  const float dots[4] = { d0[0] + d0[1] + d0[2] + d0[3], d1[0] + d1[1] + d1[2] + d1[3],
-                          d2[0] + d2[1] + d2[2] + d2[3], d3[0] + d3[1] + d3[2] + d3[3] };
+  const float dots[4] = { d0[0] + d0[1] + d0[2] + d0[3], d1[0] + d1[1] + d1[2] + d1[3], d2[0] + d2[1] + d2[2] + d2[3],
+                          d3[0] + d3[1] + d3[2] + d3[3] };
   const float var = sum_sq - sum * sum / static_cast<float>(n);
   blob.shape = 0;
   blob.correlation = 0.f;

@@ -57,9 +57,9 @@ TEST(BlobDetector, FindsBlobsWithSubPixelCentroids)
 TEST(BlobDetector, RejectsSpecklesBandsAndHugePatches)
 {
   cv::Mat image(200, 300, CV_8UC1, cv::Scalar(30));
-  cv::rectangle(image, cv::Rect(20, 20, 2, 2), cv::Scalar(250), cv::FILLED);     // speckle
-  cv::rectangle(image, cv::Rect(50, 60, 120, 6), cv::Scalar(250), cv::FILLED);   // horizontal band
-  cv::rectangle(image, cv::Rect(200, 100, 10, 18), cv::Scalar(250), cv::FILLED); // a primitive
+  cv::rectangle(image, cv::Rect(20, 20, 2, 2), cv::Scalar(250), cv::FILLED);      // speckle
+  cv::rectangle(image, cv::Rect(50, 60, 120, 6), cv::Scalar(250), cv::FILLED);    // horizontal band
+  cv::rectangle(image, cv::Rect(200, 100, 10, 18), cv::Scalar(250), cv::FILLED);  // a primitive
   BlobDetector detector;
   std::vector<Blob> blobs;
   detector.detect(image, blobs);

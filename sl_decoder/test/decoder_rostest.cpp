@@ -105,8 +105,8 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
 {
   ros::NodeHandle nh;
   std::atomic<int> good{ 0 }, bad{ 0 };
-  ros::Subscriber ok = nh.subscribe<sensor_msgs::PointCloud2>(
-      "points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++good; });
+  ros::Subscriber ok =
+      nh.subscribe<sensor_msgs::PointCloud2>("points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++good; });
   ros::Subscriber no_tf = nh.subscribe<sensor_msgs::PointCloud2>(
       "no_tf/points", 5, [&](const sensor_msgs::PointCloud2ConstPtr&) { ++bad; });
   ros::Subscriber no_tf_rays = nh.subscribe<sensor_msgs::PointCloud2>(
@@ -115,17 +115,20 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
   // its diagnostics count the frames it decoded, the points of the last one and the failed look-ups.
   std::mutex mutex;
   std::map<std::string, double> no_tf_diag;
-  ros::Subscriber diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 20, [&](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
-        for (const auto& status : msg->status)
-          if (status.name == "decoder_no_tf: decoding")
-          {
-            std::lock_guard<std::mutex> lock(mutex);
-            for (const auto& kv : status.values)
-              no_tf_diag[kv.key] = std::atof(kv.value.c_str());
-          }
-      });
-  const auto diag = [&](const std::string& key) {
+  ros::Subscriber diagnostics =
+      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 20,
+                                                     [&](const diagnostic_msgs::DiagnosticArrayConstPtr& msg)
+                                                     {
+                                                       for (const auto& status : msg->status)
+                                                         if (status.name == "decoder_no_tf: decoding")
+                                                         {
+                                                           std::lock_guard<std::mutex> lock(mutex);
+                                                           for (const auto& kv : status.values)
+                                                             no_tf_diag[kv.key] = std::atof(kv.value.c_str());
+                                                         }
+                                                     });
+  const auto diag = [&](const std::string& key)
+  {
     std::lock_guard<std::mutex> lock(mutex);
     const auto it = no_tf_diag.find(key);
     return it == no_tf_diag.end() ? -1.0 : it->second;

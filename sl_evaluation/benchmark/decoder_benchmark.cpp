@@ -20,7 +20,7 @@ namespace
 /// primitive's ray (RayClassifier), the cost of the nodelet's `ray_ends`.
 /// The frame of the scene found by @p parts, rendered with @p decoder's pattern (noise seed 7).
 sl_sim::RenderOutput renderScene(const sl_projector::Rig& rig, const sl_decoder::Decoder& decoder,
-                                    const std::vector<std::string>& parts)
+                                 const std::vector<std::string>& parts)
 {
   const sl_sim::Scene scene = sl_sim::loadScene(sl_evaluation::findScene(parts));
   sl_sim::Renderer renderer(rig);

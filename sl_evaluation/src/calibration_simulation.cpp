@@ -9,9 +9,9 @@ namespace sl_evaluation
 {
 
 using sl_decoder::Blob;
-using sl_decoder::DecodeResult;
 using sl_decoder::Decoder;
 using sl_decoder::DecoderConfig;
+using sl_decoder::DecodeResult;
 using sl_decoder::DepthMode;
 using sl_decoder::calibration::Board;
 using sl_decoder::calibration::CalibrationError;
@@ -111,8 +111,8 @@ CalibrationSimulator::CalibrationSimulator(const sl_projector::Rig& rig, const s
 CalibrationSimulator::~CalibrationSimulator() = default;
 
 const sl_sim::RenderOutput& CalibrationSimulator::renderPattern(const sl_sim::Scene& scene,
-                                                                   const Eigen::Isometry3d& platform_edge_in_world,
-                                                                   uint64_t seed)
+                                                                const Eigen::Isometry3d& platform_edge_in_world,
+                                                                uint64_t seed)
 {
   renderer_->render(scene, pattern_, sl_sim::cameraPoseInWorld(rig_, platform_edge_in_world), seed, out_);
   return out_;
@@ -125,7 +125,7 @@ const sl_sim::RenderOutput& CalibrationSimulator::renderBoard(const sl_sim::Scen
 }
 
 const sl_sim::RenderOutput& CalibrationSimulator::renderWall(const sl_sim::Scene& wall_scene, double distance,
-                                                                const PlaneCalibrationOptions& options, uint64_t seed)
+                                                             const PlaneCalibrationOptions& options, uint64_t seed)
 {
   return renderPattern(wall_scene, platformEdgeForDistance(rig_, wall_scene, distance, options), seed);
 }

@@ -9,9 +9,9 @@ namespace sl_evaluation
 {
 
 using sl_decoder::Blob;
-using sl_decoder::DecodeResult;
 using sl_decoder::Decoder;
 using sl_decoder::DecoderConfig;
+using sl_decoder::DecodeResult;
 
 void EvalStats::add(const EvalStats& o)
 {
@@ -129,7 +129,8 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_sim::Rend
     for (int dy = -1; dy <= 1 && !match; ++dy)
       for (int dx = -1; dx <= 1 && !match; ++dx)
       {
-        const int u = static_cast<int>(std::lround(b.u + 1.5f * dx)), v = static_cast<int>(std::lround(b.v + 1.5f * dy));
+        const int u = static_cast<int>(std::lround(b.u + 1.5f * dx)),
+                  v = static_cast<int>(std::lround(b.v + 1.5f * dy));
         if (u < 0 || v < 0 || u >= pc.cols || v >= pc.rows)
           continue;
         const cv::Vec2f q = pc.at<cv::Vec2f>(v, u);
@@ -189,8 +190,7 @@ std::string sceneStem(const std::string& path)
 }
 
 SceneReport evaluateScene(const sl_projector::Rig& rig, const sl_sim::Scene& scene, const std::string& name,
-                          const DecoderConfig& config, int frames, const sl_sim::SimSettings& settings,
-                          uint64_t seed)
+                          const DecoderConfig& config, int frames, const sl_sim::SimSettings& settings, uint64_t seed)
 {
   SceneReport report;
   report.scene = name;
@@ -248,7 +248,6 @@ std::string defaultRigFile()
 {
   return std::string(SL_PROJECTOR_CONFIG_DIR) + "/default_rig.yaml";
 }
-
 
 std::string findScene(const std::vector<std::string>& parts)
 {

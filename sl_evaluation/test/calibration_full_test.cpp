@@ -173,7 +173,8 @@ TEST(CalibrationCamera, CameraInfoRoundTripAndErrors)
   }
   catch (const CalibrationError& e)
   {
-    EXPECT_NE(std::string(e.what()).find("camera_matrix.data: has 3 numbers, expected 9"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("camera_matrix.data: has 3 numbers, expected 9"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(loadCameraInfo(prefix + "does_not_exist.yaml"), CalibrationError);
   for (const std::string& f : { path, ros, bad })
@@ -204,7 +205,8 @@ struct SimViews
 
 const SimViews& simViews()
 {
-  static const SimViews views = [] {
+  static const SimViews views = []
+  {
     SimViews v;
     const SimScenes scenes = findSimScenes();
     CalibrationSimulator sim(trueRig());
@@ -216,7 +218,8 @@ const SimViews& simViews()
       const sl_sim::Scene scene = sl_sim::loadScene(path);
       v.board = boardOfScene(scene);
       const cv::Mat board = sim.renderBoard(scene, seed++).image.clone();
-      const cv::Mat pattern = sim.renderPattern(withoutTextures(scene), Eigen::Isometry3d::Identity(), seed++).image.clone();
+      const cv::Mat pattern =
+          sim.renderPattern(withoutTextures(scene), Eigen::Isometry3d::Identity(), seed++).image.clone();
       v.poses.emplace_back(path, board, pattern);
     }
     v.wall700 = sim.renderWall(sl_sim::loadScene(scenes.wall), 0.7, PlaneCalibrationOptions(), seed++).image.clone();
@@ -336,7 +339,8 @@ TEST(CalibrationFull, ErrorsForBadInput)
   }
   // The wrong board size.
   FullCalibration wrong(trueRig(), parseBoardSize("7x5", 0.022));
-  EXPECT_THROW(wrong.addPlaneView("b.png", std::get<1>(v.poses[0]), "p.png", std::get<2>(v.poses[0])), CalibrationError);
+  EXPECT_THROW(wrong.addPlaneView("b.png", std::get<1>(v.poses[0]), "p.png", std::get<2>(v.poses[0])),
+               CalibrationError);
   // No pattern in the "pattern" image: the board image instead.
   try
   {

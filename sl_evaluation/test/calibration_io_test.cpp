@@ -119,17 +119,17 @@ TEST(CalibrationTools, PlaneToolWritesTheTablesOrNothing)
   EXPECT_NE(output.find("nothing written"), std::string::npos) << output;
   EXPECT_FALSE(exists(out));
   // An unreadable file is named.
-  EXPECT_EQ(run(std::string(SL_CALIBRATE_PLANE_BIN) + " --rig " + rig + " --out " + out + " " + dir + "/missing.png:0.6" +
-                    args,
+  EXPECT_EQ(run(std::string(SL_CALIBRATE_PLANE_BIN) + " --rig " + rig + " --out " + out + " " + dir +
+                    "/missing.png:0.6" + args,
                 output),
             1);
   EXPECT_NE(output.find("missing.png: no such file"), std::string::npos) << output;
   EXPECT_FALSE(exists(out));
   // Bad arguments: exit 2.
   EXPECT_EQ(run(std::string(SL_CALIBRATE_PLANE_BIN) + " --rig " + rig + " " + args, output), 2);
-  EXPECT_EQ(run(std::string(SL_CALIBRATE_PLANE_BIN) + " --rig " + rig + " --out " + out + " " + dir + "/wall_0.png",
-                output),
-            2);
+  EXPECT_EQ(
+      run(std::string(SL_CALIBRATE_PLANE_BIN) + " --rig " + rig + " --out " + out + " " + dir + "/wall_0.png", output),
+      2);
   EXPECT_FALSE(exists(out));
   // Three distances: written, with residuals.
   ASSERT_EQ(run(std::string(SL_CALIBRATE_PLANE_BIN) + " --rig " + rig + " --out " + out + " --residuals " + dir +
@@ -172,9 +172,10 @@ TEST(CalibrationTools, FullToolAndSimulationDriver)
   EXPECT_NE(output.find("reprojection error"), std::string::npos);
   const sl_projector::Rig cal = sl_projector::loadRig(dir + "/calibrated.yaml");
   EXPECT_LT(compareRigs(cal, sl_projector::loadRig(defaultRigFile())).translation_mm, 1.0);
-  ASSERT_EQ(run(std::string(SL_CALIBRATE_SIM_BIN) + " evaluate --calibration " + dir + "/calibrated.yaml --distances 0.6",
-                output),
-            0)
+  ASSERT_EQ(
+      run(std::string(SL_CALIBRATE_SIM_BIN) + " evaluate --calibration " + dir + "/calibrated.yaml --distances 0.6",
+          output),
+      0)
       << output;
   EXPECT_NE(output.find("projector rotation error"), std::string::npos) << output;
 

@@ -56,7 +56,8 @@ TEST(CalibrationLive, PlaneProcedureInSimulation)
   std::remove(output.c_str());
   ros::NodeHandle nh;
   // The first prompt names the first distance, for the user and for the stage.
-  const auto first = ros::topic::waitForMessage<std_msgs::Float64>("/calibration/next_distance", nh, ros::Duration(60.0));
+  const auto first =
+      ros::topic::waitForMessage<std_msgs::Float64>("/calibration/next_distance", nh, ros::Duration(60.0));
   ASSERT_TRUE(first);
   EXPECT_NEAR(first->data, 0.5, 1e-9);
   const auto prompt = ros::topic::waitForMessage<std_msgs::String>("/calibration/status", nh, ros::Duration(10.0));
@@ -95,7 +96,8 @@ TEST(CalibrationLive, PlaneProcedureInSimulation)
       continue;
     const double u500 = std::stod(f[4]), u900 = std::stod(f[10]);
     EXPECT_GT(u500 - u900, 30.0) << line;  // the pattern moves left as the depth grows
-    const sl_projector::DepthModel& m = rig.tables.rational[static_cast<size_t>(std::stoi(f[0]) * 64 + std::stoi(f[1]))];
+    const sl_projector::DepthModel& m =
+        rig.tables.rational[static_cast<size_t>(std::stoi(f[0]) * 64 + std::stoi(f[1]))];
     EXPECT_GT(m.depth(u500), 0.49);
     EXPECT_LT(m.depth(u900), 0.95);
     ++checked;

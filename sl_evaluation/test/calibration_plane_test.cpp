@@ -255,7 +255,8 @@ TEST(CalibrationPlane, ThreePlanesAreExact)
   const PlaneCalibrationResult res = cal.fit();
   EXPECT_GT(res.calibrated, 600);
   EXPECT_LT(res.rational_rms, 1e-9);
-  const EvalStats r = evaluateRendered(withTables(rig, res), DepthMode::Rational, sim.renderWall(wall, 0.625, options, 301));
+  const EvalStats r =
+      evaluateRendered(withTables(rig, res), DepthMode::Rational, sim.renderWall(wall, 0.625, options, 301));
   std::cout << "three planes, evaluated at 0.625 m: mean " << r.meanErrorMm() << " mm\n";
   EXPECT_LE(r.meanErrorMm(), 1.0);
 }
@@ -273,10 +274,10 @@ sl_projector::Rig roughRig(double sign)
   rig.projector.fx *= 1.0 - sign * 0.03;
   rig.projector.fy *= 1.0 - sign * 0.03;
   const double a = sign * M_PI / 180.0;
-  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) *
-                                Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()) *
-                                Eigen::AngleAxisd(-a, Eigen::Vector3d::UnitZ()))
-                                   .toRotationMatrix();
+  const Eigen::Matrix3d turn =
+      (Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(-a, Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
   rig.projector_pose.rotation = turn * rig.projector_pose.rotation;
   rig.validate();
   return rig;
@@ -340,8 +341,8 @@ TEST(CalibrationPlane, InconsistentPrimitiveIsRefused)
   PlaneCalibration cal(trueRig(), options);
   const double distances[5] = { 0.5, 0.6, 0.7, 0.8, 0.9 };
   // Image columns of a primitive on planes at depth z: u = 300 + 80 / z (disparity ~ 1 / z).
-  const double zigzag[5] = { 6.0, -6.0, 6.0, -6.0, 6.0 };     // 6 px is 20 to 60 mm of depth
-  const double one_bad[5] = { 0.0, 0.0, 9.0, 0.0, 0.0 };      // a wrong decode at 0.7 m
+  const double zigzag[5] = { 6.0, -6.0, 6.0, -6.0, 6.0 };  // 6 px is 20 to 60 mm of depth
+  const double one_bad[5] = { 0.0, 0.0, 9.0, 0.0, 0.0 };   // a wrong decode at 0.7 m
   for (int k = 0; k < 5; ++k)
   {
     const double u = 300.0 + 80.0 / distances[k];

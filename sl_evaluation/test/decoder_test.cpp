@@ -42,11 +42,11 @@ EvalStats run(const sl_projector::Rig& rig, const std::vector<std::string>& scen
 /// a single point, about 5 %; near points 5 % below.
 struct Floors
 {
-  double valid_percent;     ///< at least
-  double mean_mm;           ///< at most
-  double max_mm;            ///< at most: one bad point (a wrong depth at a silhouette) shows here first
-  double near_per_frame;    ///< points on nearer surfaces per frame, at least (the objects are decoded)
-  double near_at_most;      ///< and at most (0 on a lone plane: no phantom surface in front of it)
+  double valid_percent;   ///< at least
+  double mean_mm;         ///< at most
+  double max_mm;          ///< at most: one bad point (a wrong depth at a silhouette) shows here first
+  double near_per_frame;  ///< points on nearer surfaces per frame, at least (the objects are decoded)
+  double near_at_most;    ///< and at most (0 on a lone plane: no phantom surface in front of it)
 };
 
 const double kAny = 1e9;  // no upper bound on near points (a nearer object may show more of itself)
@@ -195,8 +195,8 @@ TEST(Decoder, WorksWithAnotherRig)
 namespace
 {
 /// A plane at @p distance m from the camera, 2 frames from seed @p seed.
-EvalStats runPlane(const sl_projector::Rig& rig, double distance, const sl_sim::SimSettings& settings,
-                   uint64_t seed, const std::string& what)
+EvalStats runPlane(const sl_projector::Rig& rig, double distance, const sl_sim::SimSettings& settings, uint64_t seed,
+                   const std::string& what)
 {
   DecoderConfig config;
   config.split_merged = true;  // the near-range detection (the default; stated, as the floors need it)

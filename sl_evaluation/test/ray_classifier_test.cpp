@@ -48,7 +48,7 @@ Shared& setup()
 /// @p pitch about the robot's y axis, shifted @p lateral m to the left; with the floor of room.yaml
 /// when @p floor.
 sl_sim::Scene planeScene(double depth, double albedo, bool floor, double yaw = 0.0, double pitch = 0.0,
-                            double lateral = 0.0)
+                         double lateral = 0.0)
 {
   std::ostringstream s;
   s << "format_version: 1\nobjects:\n";
@@ -141,7 +141,8 @@ int raysBeyondSurface(const sl_sim::Scene& scene, const Frame& f, double toleran
 
 TEST(RayConfig, BadValuesThrowNamingTheField)
 {
-  auto expectThrowNaming = [](RayConfig c, const std::string& field) {
+  auto expectThrowNaming = [](RayConfig c, const std::string& field)
+  {
     try
     {
       c.validate();
@@ -319,11 +320,15 @@ TEST(RayClassifier, DimPlanesNeverLetAFreeRayThrough)
     double depth, albedo, yaw, pitch, lateral;
     bool floor;
   };
-  const Case cases[] = { { 1.0, 0.15, 0.0, 0.0, 0.0, false }, { 1.5, 0.2, 0.0, 0.0, 0.0, false },
-                         { 1.0, 0.15, 0.5, 0.0, 0.1, true },  { 0.8, 0.12, -0.4, 0.3, -0.05, true },
-                         { 0.6, 0.1, 0.3, 0.0, 0.0, false },  { 1.2, 0.2, 0.0, -0.3, 0.0, true },
+  const Case cases[] = { { 1.0, 0.15, 0.0, 0.0, 0.0, false },
+                         { 1.5, 0.2, 0.0, 0.0, 0.0, false },
+                         { 1.0, 0.15, 0.5, 0.0, 0.1, true },
+                         { 0.8, 0.12, -0.4, 0.3, -0.05, true },
+                         { 0.6, 0.1, 0.3, 0.0, 0.0, false },
+                         { 1.2, 0.2, 0.0, -0.3, 0.0, true },
                          // near, blurred: the glow and the defocused pattern of a min_albedo surface
-                         { 0.27, 0.1, 0.0, 0.0, 0.0, false }, { 0.35, 0.1, 0.2, 0.0, 0.0, false },
+                         { 0.27, 0.1, 0.0, 0.0, 0.0, false },
+                         { 0.35, 0.1, 0.2, 0.0, 0.0, false },
                          { 0.45, 0.1, 0.0, 0.0, 0.0, true } };
   Frame f;
   for (const Case& c : cases)
@@ -469,8 +474,8 @@ TEST(RayClassifier, AWallMakesNoPhantomSuspectsInFrontOfIt)
       "  - {type: plane, name: wall, position: [1.0, 0, 1.0], normal: [-1, 0, 0], size: [3, 2], albedo: 0.8}\n",
       "wall");
   // platform_edge poses (x, y, yaw): from 1 m away to where the robot stops and turns (0.4 to 0.55 m).
-  const double poses[][3] = { { 0.0, 0.0, 0.0 },  { 0.3, 0.0, 0.0 },   { 0.5, 0.1, 0.2 },   { 0.2, -0.1, -0.3 },
-                              { 0.5, 0.0, 0.0 },  { 0.55, 0.0, -0.5 }, { 0.58, 0.05, 0.35 }, { 0.45, -0.1, 0.7 } };
+  const double poses[][3] = { { 0.0, 0.0, 0.0 }, { 0.3, 0.0, 0.0 },   { 0.5, 0.1, 0.2 },    { 0.2, -0.1, -0.3 },
+                              { 0.5, 0.0, 0.0 }, { 0.55, 0.0, -0.5 }, { 0.58, 0.05, 0.35 }, { 0.45, -0.1, 0.7 } };
   Frame f;
   for (const auto& p : poses)
     for (uint64_t seed = 1; seed <= 4; ++seed)
@@ -555,4 +560,3 @@ TEST(RayClassifier, ExtremeLensesBuildInBoundedWork)
   }
   EXPECT_GE(built, 2) << "the centre of the image keeps the pattern in view";
 }
-

@@ -60,13 +60,20 @@ const char* toString(State state)
 {
   switch (state)
   {
-    case State::STALE: return "STALE";
-    case State::STOPPED: return "STOPPED";
-    case State::BLOCKED: return "BLOCKED";
-    case State::TURNING: return "TURNING";
-    case State::SLOWING: return "SLOWING";
-    case State::DRIVING: return "DRIVING";
-    case State::BACKING_OFF: return "BACKING_OFF";
+    case State::STALE:
+      return "STALE";
+    case State::STOPPED:
+      return "STOPPED";
+    case State::BLOCKED:
+      return "BLOCKED";
+    case State::TURNING:
+      return "TURNING";
+    case State::SLOWING:
+      return "SLOWING";
+    case State::DRIVING:
+      return "DRIVING";
+    case State::BACKING_OFF:
+      return "BACKING_OFF";
   }
   return "?";
 }
@@ -75,27 +82,48 @@ const char* toString(Reason reason)
 {
   switch (reason)
   {
-    case Reason::NO_DATA: return "NO_DATA";
-    case Reason::STALE_DATA: return "STALE_DATA";
-    case Reason::DISABLED: return "DISABLED";
-    case Reason::DRIVER_UNAVAILABLE: return "DRIVER_UNAVAILABLE";
-    case Reason::DRIVER_FAILED: return "DRIVER_FAILED";
-    case Reason::DRIVER_HAZARD: return "DRIVER_HAZARD";
-    case Reason::LOW_COVERAGE: return "LOW_COVERAGE";
-    case Reason::OBSTACLE: return "OBSTACLE";
-    case Reason::UNKNOWN_AHEAD: return "UNKNOWN_AHEAD";
-    case Reason::TURNING: return "TURNING";
-    case Reason::LOOKING: return "LOOKING";
-    case Reason::NO_FREE_DIRECTION: return "NO_FREE_DIRECTION";
-    case Reason::WAITING_FOR_FRAME: return "WAITING_FOR_FRAME";
-    case Reason::PATH_FREE: return "PATH_FREE";
-    case Reason::SHORT_FREE_DISTANCE: return "SHORT_FREE_DISTANCE";
-    case Reason::PARTIAL_COVERAGE: return "PARTIAL_COVERAGE";
-    case Reason::NEARER_OBSTACLE: return "NEARER_OBSTACLE";
-    case Reason::EXTENDING: return "EXTENDING";
-    case Reason::GOAL_RUNNING: return "GOAL_RUNNING";
-    case Reason::BACKING_OFF: return "BACKING_OFF";
-    case Reason::NO_ODOMETRY: return "NO_ODOMETRY";
+    case Reason::NO_DATA:
+      return "NO_DATA";
+    case Reason::STALE_DATA:
+      return "STALE_DATA";
+    case Reason::DISABLED:
+      return "DISABLED";
+    case Reason::DRIVER_UNAVAILABLE:
+      return "DRIVER_UNAVAILABLE";
+    case Reason::DRIVER_FAILED:
+      return "DRIVER_FAILED";
+    case Reason::DRIVER_HAZARD:
+      return "DRIVER_HAZARD";
+    case Reason::LOW_COVERAGE:
+      return "LOW_COVERAGE";
+    case Reason::OBSTACLE:
+      return "OBSTACLE";
+    case Reason::UNKNOWN_AHEAD:
+      return "UNKNOWN_AHEAD";
+    case Reason::TURNING:
+      return "TURNING";
+    case Reason::LOOKING:
+      return "LOOKING";
+    case Reason::NO_FREE_DIRECTION:
+      return "NO_FREE_DIRECTION";
+    case Reason::WAITING_FOR_FRAME:
+      return "WAITING_FOR_FRAME";
+    case Reason::PATH_FREE:
+      return "PATH_FREE";
+    case Reason::SHORT_FREE_DISTANCE:
+      return "SHORT_FREE_DISTANCE";
+    case Reason::PARTIAL_COVERAGE:
+      return "PARTIAL_COVERAGE";
+    case Reason::NEARER_OBSTACLE:
+      return "NEARER_OBSTACLE";
+    case Reason::EXTENDING:
+      return "EXTENDING";
+    case Reason::GOAL_RUNNING:
+      return "GOAL_RUNNING";
+    case Reason::BACKING_OFF:
+      return "BACKING_OFF";
+    case Reason::NO_ODOMETRY:
+      return "NO_ODOMETRY";
   }
   return "?";
 }
@@ -104,10 +132,14 @@ const char* toString(Command command)
 {
   switch (command)
   {
-    case Command::NONE: return "NONE";
-    case Command::STOP: return "STOP";
-    case Command::DRIVE: return "DRIVE";
-    case Command::TURN: return "TURN";
+    case Command::NONE:
+      return "NONE";
+    case Command::STOP:
+      return "STOP";
+    case Command::DRIVE:
+      return "DRIVE";
+    case Command::TURN:
+      return "TURN";
   }
   return "?";
 }
@@ -278,12 +310,11 @@ void DecisionMaker::describe(const Assessment& a, const FrameSummary& f)
   switch (a.kind)
   {
     case Assessment::OBSTACLE:
-      setText("obstacle at %.3f m, closer than safety_margin %.3f m + min_goal_distance %.3f m",
-              f.nearest_obstacle, params_.safety_margin, params_.min_goal_distance);
+      setText("obstacle at %.3f m, closer than safety_margin %.3f m + min_goal_distance %.3f m", f.nearest_obstacle,
+              params_.safety_margin, params_.min_goal_distance);
       break;
     case Assessment::LOW_COVERAGE:
-      setText("coverage %.2f below min_coverage %.2f: the space ahead is unknown", f.coverage,
-              params_.min_coverage);
+      setText("coverage %.2f below min_coverage %.2f: the space ahead is unknown", f.coverage, params_.min_coverage);
       break;
     case Assessment::UNKNOWN_AHEAD:
       setText("box measured free only to %.3f m (safety_margin %.3f m, nearest obstacle %.3f m): beyond is unknown",
@@ -296,8 +327,8 @@ void DecisionMaker::describe(const Assessment& a, const FrameSummary& f)
       }
       else if (a.reason == Reason::PARTIAL_COVERAGE)
       {
-        setText("coverage %.2f below full_speed_coverage %.2f (free %.3f m): goal %.3f m at %.3f m/s",
-                f.coverage, params_.full_speed_coverage, f.free_distance, a.distance, a.speed);
+        setText("coverage %.2f below full_speed_coverage %.2f (free %.3f m): goal %.3f m at %.3f m/s", f.coverage,
+                params_.full_speed_coverage, f.free_distance, a.distance, a.speed);
       }
       else
       {
@@ -330,8 +361,8 @@ void DecisionMaker::startCycle(double now, Reason reason, const char* why)
   cycle_text_.assign(why);
   // Toward the freer side (from a map: the side of the freest heading); on a tie keep the previous
   // direction.
-  const double difference = frame_.from_map && frame_.best_turn != 0.0 ? frame_.best_turn
-                                                                       : frame_.left_free - frame_.right_free;
+  const double difference =
+      frame_.from_map && frame_.best_turn != 0.0 ? frame_.best_turn : frame_.left_free - frame_.right_free;
   if (difference > 0.01)
   {
     turn_dir_ = 1;
@@ -437,8 +468,7 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
     cycle_text_.assign(decision_.text);
   }
   set(State::STOPPED, Reason::NO_FREE_DIRECTION, Command::STOP);
-  setText("no free direction after %d turns and %d back-offs (%s)", turns_done_, backoffs_done_,
-          cycle_text_.c_str());
+  setText("no free direction after %d turns and %d back-offs (%s)", turns_done_, backoffs_done_, cycle_text_.c_str());
 }
 
 bool DecisionMaker::startBackoff(double now)
@@ -533,17 +563,15 @@ void DecisionMaker::stepRunningGoal(double now, const MotionState& motion)
   if (limit < remaining - params_.preempt_tolerance)
   {
     const double speed = speedForFree(nearest);
-    set(speed >= params_.max_speed - 1e-9 ? State::DRIVING : State::SLOWING, Reason::NEARER_OBSTACLE,
-        Command::DRIVE);
+    set(speed >= params_.max_speed - 1e-9 ? State::DRIVING : State::SLOWING, Reason::NEARER_OBSTACLE, Command::DRIVE);
     decision_.distance = limit;
     decision_.speed = speed;
-    setText("obstacle at %.3f m nearer than planned (%.3f m to go): new goal %.3f m at %.3f m/s", nearest,
-            remaining, limit, speed);
+    setText("obstacle at %.3f m nearer than planned (%.3f m to go): new goal %.3f m at %.3f m/s", nearest, remaining,
+            limit, speed);
     return;
   }
   const Assessment a = assess(frame_);
-  if (a.kind == Assessment::DRIVE && a.distance > remaining + params_.replan_distance &&
-      frame_.stamp >= motion_end_)
+  if (a.kind == Assessment::DRIVE && a.distance > remaining + params_.replan_distance && frame_.stamp >= motion_end_)
   {
     drive(a, frame_);
     decision_.reason = Reason::EXTENDING;
@@ -636,7 +664,6 @@ const Decision& DecisionMaker::step(double now, const MotionState& motion)
 
 void DecisionMaker::decide(double now, const MotionState& motion)
 {
-
   if (!params_.enabled)
   {
     phase_ = Phase::NONE;

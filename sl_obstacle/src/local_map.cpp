@@ -264,7 +264,8 @@ void LocalMap::growExtent(const MapRay& r)
   {
     return;
   }
-  const auto fraction = [this](double v) {
+  const auto fraction = [this](double v)
+  {
     const double f = v * inv_res_ - std::floor(v * inv_res_);
     return static_cast<std::uint8_t>(std::max(0.0, std::min(255.0, std::round(f * 255.0))));
   };
@@ -328,8 +329,8 @@ void LocalMap::traverse(const MapRay& r)
   {
     const double t_next = std::min(t1, std::min(next_x, next_y));
     const std::size_t cell = slot(ix, iy);
-    if (passesHits(cell, (px + t * dx) * inv_res_ - ix, (py + t * dy) * inv_res_ - iy, dx * inv_res_,
-                   dy * inv_res_, t_next - t))
+    if (passesHits(cell, (px + t * dx) * inv_res_ - ix, (py + t * dy) * inv_res_ - iy, dx * inv_res_, dy * inv_res_,
+                   t_next - t))
     {
       flagCrossed(cell, r.sz + t * dz, r.sz + t_next * dz, skip);
     }
@@ -407,7 +408,8 @@ void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
     invalid_rays_ = rays.size();
     return;
   }
-  const auto finite = [](const MapRay& r) {
+  const auto finite = [](const MapRay& r)
+  {
     return std::isfinite(r.sx) && std::isfinite(r.sy) && std::isfinite(r.sz) && std::isfinite(r.ex) &&
            std::isfinite(r.ey) && std::isfinite(r.ez);
   };
@@ -433,8 +435,7 @@ void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
 
 void LocalMap::setDisc(double x, double y, double radius, double stamp, float value, bool keep_seen)
 {
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(radius) || radius < 0.0 ||
-      !std::isfinite(stamp))
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(radius) || radius < 0.0 || !std::isfinite(stamp))
   {
     return;
   }

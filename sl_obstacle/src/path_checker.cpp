@@ -114,8 +114,8 @@ void FootprintParams::validate() const
   }
 }
 
-PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw,
-                         int direction, double max_distance, double now)
+PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, int direction,
+                         double max_distance, double now)
 {
   if (direction != 1 && direction != -1)
   {
@@ -136,8 +136,7 @@ PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double 
   PathResult out;
   int known = 0;
   const double by = y + max_distance * sw.uy;
-  for (int iy = map.cellIndex(std::min(y, by) - r), y_end = map.cellIndex(std::max(y, by) + r); iy <= y_end;
-       ++iy)
+  for (int iy = map.cellIndex(std::min(y, by) - r), y_end = map.cellIndex(std::max(y, by) + r); iy <= y_end; ++iy)
   {
     const double yc = (iy + 0.5) * res;
     const Span span = sw.spanAt(yc);
@@ -169,8 +168,8 @@ PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double 
   return out;
 }
 
-HeadingChoice bestHeading(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw,
-                          double step, int n, double max_distance, double now)
+HeadingChoice bestHeading(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, double step,
+                          int n, double max_distance, double now)
 {
   if (n < 0 || n > kMaxHeadingSteps)
   {

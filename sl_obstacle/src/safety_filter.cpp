@@ -94,13 +94,20 @@ const char* toString(FilterReason reason)
 {
   switch (reason)
   {
-    case FilterReason::PASSED: return "PASSED";
-    case FilterReason::LIMITED: return "LIMITED";
-    case FilterReason::STOPPED_OBSTACLE: return "STOPPED_OBSTACLE";
-    case FilterReason::INPUT_TIMEOUT: return "INPUT_TIMEOUT";
-    case FilterReason::STALE_DATA: return "STALE_DATA";
-    case FilterReason::NO_ODOMETRY: return "NO_ODOMETRY";
-    case FilterReason::INVALID_COMMAND: return "INVALID_COMMAND";
+    case FilterReason::PASSED:
+      return "PASSED";
+    case FilterReason::LIMITED:
+      return "LIMITED";
+    case FilterReason::STOPPED_OBSTACLE:
+      return "STOPPED_OBSTACLE";
+    case FilterReason::INPUT_TIMEOUT:
+      return "INPUT_TIMEOUT";
+    case FilterReason::STALE_DATA:
+      return "STALE_DATA";
+    case FilterReason::NO_ODOMETRY:
+      return "NO_ODOMETRY";
+    case FilterReason::INVALID_COMMAND:
+      return "INVALID_COMMAND";
   }
   return "?";
 }
@@ -112,8 +119,7 @@ ArcResult sweepArc(const LocalMap& map, double radius, const Pose2D& pose, int d
   {
     throw std::invalid_argument("direction must be +1 or -1 (got " + std::to_string(direction) + ")");
   }
-  if (!std::isfinite(curvature) || !std::isfinite(length) || length < 0.0 || !std::isfinite(radius) ||
-      radius <= 0.0)
+  if (!std::isfinite(curvature) || !std::isfinite(length) || length < 0.0 || !std::isfinite(radius) || radius <= 0.0)
   {
     throw std::invalid_argument("curvature, length and radius must be finite, length >= 0 and radius > 0");
   }
@@ -174,8 +180,7 @@ ArcResult sweepArc(const LocalMap& map, double radius, const Pose2D& pose, int d
   return out;
 }
 
-double arcContact(const std::vector<Point2>& points, double radius, int direction, double curvature,
-                  double length)
+double arcContact(const std::vector<Point2>& points, double radius, int direction, double curvature, double length)
 {
   double best = kInf;
   if (isStraight(curvature, length))
@@ -241,20 +246,18 @@ double SafetyFilter::travel(const LocalMap& map, const FilterInput& in, double v
   const ArcResult swept = sweepArc(map, fp.sweptRadius(), in.pose, direction, curvature, length, in.now);
   // Contact is a matter of the disc itself; widened by half a cell's diagonal, a cell counts from
   // its nearest corner (as WorldModel::summarize() does).
-  const double body =
-      sweepArc(map, fp.radius + 0.71 * res, in.pose, direction, curvature, length, in.now).obstacle;
+  const double body = sweepArc(map, fp.radius + 0.71 * res, in.pose, direction, curvature, length, in.now).obstacle;
   const double cloud =
       in.obstacles != nullptr ? arcContact(*in.obstacles, fp.radius, direction, curvature, length) : kInf;
   // Where the cloud sees the obstacle the map stops at, its exact distance replaces the cells'; the
   // unknown cells just behind that obstacle (no ray passed it) are reached only through it.
   const bool same = std::isfinite(cloud) && std::abs(body - cloud) <= 3.0 * res;
-  const double free = same ? (swept.unknown >= body ? cloud : std::min(cloud, swept.unknown))
-                           : std::min(swept.free, cloud);
+  const double free =
+      same ? (swept.unknown >= body ? cloud : std::min(cloud, swept.unknown)) : std::min(swept.free, cloud);
   return std::min(free, length) - params_.clearance;
 }
 
-double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w,
-                                FilterOutput& out) const
+double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out) const
 {
   const double sign = v > 0.0 ? 1.0 : -1.0;
   const double a = params_.deceleration;
@@ -295,8 +298,8 @@ FilterOutput SafetyFilter::filter(const LocalMap& map, const FilterInput& in) co
   if (!(in.now - in.command_time <= params_.input_timeout))
   {
     out.reason = FilterReason::INPUT_TIMEOUT;
-    std::snprintf(text, sizeof(text), "no command for %.2f s (input_timeout %.2f s): stopped",
-                  in.now - in.command_time, params_.input_timeout);
+    std::snprintf(text, sizeof(text), "no command for %.2f s (input_timeout %.2f s): stopped", in.now - in.command_time,
+                  params_.input_timeout);
     out.text = text;
     return out;
   }
@@ -328,8 +331,7 @@ FilterOutput SafetyFilter::filter(const LocalMap& map, const FilterInput& in) co
   if (out.command.linear == v)
   {
     out.reason = FilterReason::PASSED;
-    std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance: %.3f m/s passed", out.travel,
-                  v);
+    std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance: %.3f m/s passed", out.travel, v);
   }
   else if (out.command.linear != 0.0)
   {

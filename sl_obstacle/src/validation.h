@@ -1,6 +1,5 @@
 // Internal helpers for parameter validation messages (not installed).
-#ifndef SL_OBSTACLE_SRC_VALIDATION_H
-#define SL_OBSTACLE_SRC_VALIDATION_H
+#pragma once
 
 #include <cmath>
 #include <sstream>
@@ -44,5 +43,3 @@ inline std::string inRange(const char* name, double value, double lo, double hi)
 }
 }  // namespace detail
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_SRC_VALIDATION_H

@@ -33,8 +33,8 @@ std::string WorldParams::validate() const
   }
   if (check_distance > 0.5 * map.size - footprint.radius - footprint.lateral_margin)
   {
-    return detail::complaint("check_distance", "must fit in half the map (map_size / 2 - robot_radius - lateral_margin)",
-                             check_distance);
+    return detail::complaint("check_distance",
+                             "must fit in half the map (map_size / 2 - robot_radius - lateral_margin)", check_distance);
   }
   return std::string();
 }
@@ -52,9 +52,7 @@ WorldParams checked(const WorldParams& p)
 }
 }  // namespace
 
-WorldModel::WorldModel(const WorldParams& params) : params_(checked(params)), map_(params_.map)
-{
-}
+WorldModel::WorldModel(const WorldParams& params) : params_(checked(params)), map_(params_.map) {}
 
 void WorldModel::reset()
 {

@@ -125,8 +125,7 @@ void BM_SweepStraight(benchmark::State& state)
   int cells = 0;
   for (auto _ : state)
   {
-    const sl_obstacle::PathResult r =
-        sl_obstacle::sweepStraight(map, fp, kSensorX, kSensorY, kYaw, 1, 1.2, 0.4);
+    const sl_obstacle::PathResult r = sl_obstacle::sweepStraight(map, fp, kSensorX, kSensorY, kYaw, 1, 1.2, 0.4);
     benchmark::DoNotOptimize(r.free);
     cells = r.swept_cells;
   }

@@ -441,7 +441,7 @@ TEST(DecisionMaker, EveryDecisionHasAReasonText)
   p.turn_speed = 1.0;
   DecisionMaker dm(p);
   double t = 0.0;
-  const double frees[] = {0.8, 0.4, 0.1, 0.8, 0.05, 0.05, 0.05, 0.8};
+  const double frees[] = { 0.8, 0.4, 0.1, 0.8, 0.05, 0.05, 0.05, 0.8 };
   for (int i = 0; i < 200; ++i)
   {
     t += 0.05;
@@ -466,19 +466,19 @@ TEST(DecisionMaker, BadParametersAreRejectedNamingTheParameter)
     void (*spoil)(DecisionParams&);
   };
   const BadCase cases[] = {
-      {"safety_margin", [](DecisionParams& p) { p.safety_margin = -0.1; }},
-      {"min_goal_distance", [](DecisionParams& p) { p.min_goal_distance = 0.0; }},
-      {"slow_distance", [](DecisionParams& p) { p.slow_distance = 0.1; }},  // not above the margin
-      {"max_speed", [](DecisionParams& p) { p.max_speed = 2.0; }},
-      {"min_speed", [](DecisionParams& p) { p.min_speed = 0.3; }},  // above max_speed
-      {"min_coverage", [](DecisionParams& p) { p.min_coverage = 1.5; }},
-      {"full_speed_coverage", [](DecisionParams& p) { p.full_speed_coverage = 0.1; }},  // below min
-      {"stale_timeout", [](DecisionParams& p) { p.stale_timeout = std::nan(""); }},
-      {"stale_timeout", [](DecisionParams& p) { p.stale_timeout = 0.0; }},
-      {"turn_speed", [](DecisionParams& p) { p.turn_speed = -0.5; }},
-      {"turn_angle", [](DecisionParams& p) { p.turn_angle = 0.0; }},
-      {"max_turns", [](DecisionParams& p) { p.max_turns = -1; }},
-      {"settle_time", [](DecisionParams& p) { p.settle_time = -1.0; }},
+    { "safety_margin", [](DecisionParams& p) { p.safety_margin = -0.1; } },
+    { "min_goal_distance", [](DecisionParams& p) { p.min_goal_distance = 0.0; } },
+    { "slow_distance", [](DecisionParams& p) { p.slow_distance = 0.1; } },  // not above the margin
+    { "max_speed", [](DecisionParams& p) { p.max_speed = 2.0; } },
+    { "min_speed", [](DecisionParams& p) { p.min_speed = 0.3; } },  // above max_speed
+    { "min_coverage", [](DecisionParams& p) { p.min_coverage = 1.5; } },
+    { "full_speed_coverage", [](DecisionParams& p) { p.full_speed_coverage = 0.1; } },  // below min
+    { "stale_timeout", [](DecisionParams& p) { p.stale_timeout = std::nan(""); } },
+    { "stale_timeout", [](DecisionParams& p) { p.stale_timeout = 0.0; } },
+    { "turn_speed", [](DecisionParams& p) { p.turn_speed = -0.5; } },
+    { "turn_angle", [](DecisionParams& p) { p.turn_angle = 0.0; } },
+    { "max_turns", [](DecisionParams& p) { p.max_turns = -1; } },
+    { "settle_time", [](DecisionParams& p) { p.settle_time = -1.0; } },
   };
   for (const BadCase& c : cases)
   {

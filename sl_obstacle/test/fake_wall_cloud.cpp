@@ -92,10 +92,10 @@ private:
     cloud.header.stamp = ros::Time::now();
     cloud.header.frame_id = frame_id_;
     sensor_msgs::PointCloud2Modifier modifier(cloud);
-    modifier.setPointCloud2Fields(6, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
-                                  sensor_msgs::PointField::FLOAT32, "z", 1, sensor_msgs::PointField::FLOAT32,
-                                  "confidence", 1, sensor_msgs::PointField::FLOAT32, "row", 1,
-                                  sensor_msgs::PointField::UINT16, "col", 1, sensor_msgs::PointField::UINT16);
+    modifier.setPointCloud2Fields(6, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32,
+                                  "z", 1, sensor_msgs::PointField::FLOAT32, "confidence", 1,
+                                  sensor_msgs::PointField::FLOAT32, "row", 1, sensor_msgs::PointField::UINT16, "col", 1,
+                                  sensor_msgs::PointField::UINT16);
     modifier.resize(static_cast<std::size_t>(rows * cols + stray_points_));
     sensor_msgs::PointCloud2Iterator<float> it_x(cloud, "x");
     sensor_msgs::PointCloud2Iterator<float> it_y(cloud, "y");
@@ -105,7 +105,8 @@ private:
     sensor_msgs::PointCloud2Iterator<uint16_t> it_col(cloud, "col");
     const double shift = frame_id_ == "platform_edge" ? 0.0 : edge_offset_;
     std::size_t n = 0;
-    auto emit = [&](double x, double y, double z, int row, int col) {
+    auto emit = [&](double x, double y, double z, int row, int col)
+    {
       *it_x = static_cast<float>(x + shift);
       *it_y = static_cast<float>(y);
       *it_z = static_cast<float>(z);
@@ -171,7 +172,7 @@ private:
   ros::Publisher pub_;
   ros::ServiceServer service_;
   ros::Timer timer_;
-  std::mt19937 rng_{7};
+  std::mt19937 rng_{ 7 };
   double wall_x_ = 1.0;
   std::string world_frame_;
   std::string robot_frame_;

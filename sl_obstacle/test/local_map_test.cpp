@@ -209,7 +209,7 @@ TEST(LocalMap, SuspectNeedsTwoCloudsAndOwnFreePartDoesNotCancelIt)
   const std::vector<MapRay> lit = { ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect) };
   map.insert(lit, 0.0);
   EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Unknown);  // 0.5 < 0.6
-  EXPECT_EQ(countCells(map, 0.0, 50), 1);                      // shown as suspect
+  EXPECT_EQ(countCells(map, 0.0, 50), 1);                     // shown as suspect
   map.insert(lit, 0.0);
   EXPECT_EQ(map.state(0.61, 0.01, 0.0), CellState::Occupied);  // 1.0
 }
@@ -276,9 +276,7 @@ TEST(LocalMap, DiagonalRayMarksEveryCellOnItsLine)
 {
   LocalMap map{ MapParams() };
   const float sx = -0.73F, sy = 0.37F, ex = 1.29F, ey = -0.91F;
-  map.insert({ ray(sx, sy, kLow, ex, ey, kLow, RayKind::Free),
-               ray(sx, sy, kHigh, ex, ey, kHigh, RayKind::Free) },
-             0.0);
+  map.insert({ ray(sx, sy, kLow, ex, ey, kLow, RayKind::Free), ray(sx, sy, kHigh, ex, ey, kHigh, RayKind::Free) }, 0.0);
   int free = 0;
   for (int i = 1; i < 1000; ++i)
   {
@@ -404,14 +402,14 @@ TEST(LocalMap, FarMovesForgetEverything)
 
 TEST(LocalMap, BadParametersThrowNamingTheField)
 {
-  const auto bad = [](auto change) {
+  const auto bad = [](auto change)
+  {
     MapParams p;
     change(p);
     return thrownMessage([&] { LocalMap map(p); });
   };
   EXPECT_EQ(thrownMessage([] { MapParams().validate(); }), "");
-  EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.3; }).rfind("map_resolution must be in (0.005, 0.2]", 0),
-            0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.3; }).rfind("map_resolution must be in (0.005, 0.2]", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.005; }).rfind("map_resolution", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.size = std::nan(""); }).rfind("map_size", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.size = 0.01; }).rfind("map_size", 0), 0U);  // one cell

@@ -42,7 +42,7 @@ std::size_t acceptedCount(NoiseFilter& filter, const std::vector<Point>& points)
 TEST(NoiseFilter, SingleStrayPointIsRejected)
 {
   NoiseFilter filter = makeFilter(3, 1);
-  const std::vector<Point> points{makePoint(0.4F, 0.0F, 0.1F)};
+  const std::vector<Point> points{ makePoint(0.4F, 0.0F, 0.1F) };
   std::vector<std::uint32_t> accepted;
   const NoiseStats& stats = filter.apply(points.data(), allIndices(points), accepted);
   EXPECT_TRUE(accepted.empty());
@@ -55,7 +55,7 @@ TEST(NoiseFilter, SingleStrayPointIsRejected)
 TEST(NoiseFilter, MinimumClusterSize)
 {
   NoiseFilter filter = makeFilter(3, 1);
-  std::vector<Point> points{makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.005F, 0.1F)};
+  std::vector<Point> points{ makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.005F, 0.1F) };
   EXPECT_EQ(acceptedCount(filter, points), 0U);
   points.push_back(makePoint(0.4F, 0.0F, 0.111F));
   EXPECT_EQ(acceptedCount(filter, points), 3U);
@@ -65,19 +65,19 @@ TEST(NoiseFilter, ClustersAreTransitiveWithinTheTolerance)
 {
   NoiseFilter filter = makeFilter(3, 1, 0.03);
   // A chain with 25 mm links is one cluster although its ends are 50 mm apart.
-  const std::vector<Point> chain{makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.025F, 0.1F),
-                                 makePoint(0.4F, 0.05F, 0.1F)};
+  const std::vector<Point> chain{ makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.025F, 0.1F),
+                                  makePoint(0.4F, 0.05F, 0.1F) };
   EXPECT_EQ(acceptedCount(filter, chain), 3U);
   // 40 mm links: three single points.
-  const std::vector<Point> spread{makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.04F, 0.1F),
-                                  makePoint(0.4F, 0.08F, 0.1F)};
+  const std::vector<Point> spread{ makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.04F, 0.1F),
+                                   makePoint(0.4F, 0.08F, 0.1F) };
   std::vector<std::uint32_t> accepted;
   const NoiseStats& stats = filter.apply(spread.data(), allIndices(spread), accepted);
   EXPECT_TRUE(accepted.empty());
   EXPECT_EQ(stats.clusters, 3U);
   // Distance is 3D: points close in y but apart in x are not linked.
-  const std::vector<Point> deep{makePoint(0.3F, 0.0F, 0.1F), makePoint(0.4F, 0.001F, 0.1F),
-                                makePoint(0.5F, 0.002F, 0.1F)};
+  const std::vector<Point> deep{ makePoint(0.3F, 0.0F, 0.1F), makePoint(0.4F, 0.001F, 0.1F),
+                                 makePoint(0.5F, 0.002F, 0.1F) };
   EXPECT_EQ(acceptedCount(filter, deep), 0U);
 }
 
@@ -104,7 +104,7 @@ TEST(NoiseFilter, StrayPointsBesideAnObstacleAreRejectedAlone)
 TEST(NoiseFilter, PersistenceNeedsConsecutiveFrames)
 {
   NoiseFilter filter = makeFilter(1, 3);
-  const std::vector<Point> leg{makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.0F, 0.111F)};
+  const std::vector<Point> leg{ makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.0F, 0.111F) };
   EXPECT_EQ(acceptedCount(filter, leg), 0U);
   EXPECT_EQ(acceptedCount(filter, leg), 0U);
   EXPECT_EQ(acceptedCount(filter, leg), 2U);
@@ -122,11 +122,11 @@ TEST(NoiseFilter, PersistenceFollowsAnApproachingObstacle)
   for (int frame = 0; frame < 5; ++frame)
   {
     const float x = 0.6F - 0.02F * frame;
-    last = acceptedCount(filter, {makePoint(x, 0.0F, 0.1F)});
+    last = acceptedCount(filter, { makePoint(x, 0.0F, 0.1F) });
     EXPECT_EQ(last, frame == 0 ? 0U : 1U) << "frame " << frame;
   }
   // A jump of 200 mm in the same cell is a different thing: starts over.
-  EXPECT_EQ(acceptedCount(filter, {makePoint(0.3F, 0.0F, 0.1F)}), 0U);
+  EXPECT_EQ(acceptedCount(filter, { makePoint(0.3F, 0.0F, 0.1F) }), 0U);
 }
 
 TEST(NoiseFilter, RandomStrayPointsNeverPersist)
@@ -152,8 +152,8 @@ TEST(NoiseFilter, RandomStrayPointsNeverPersist)
 TEST(NoiseFilter, BothTestsCombine)
 {
   NoiseFilter filter = makeFilter(3, 2);
-  const std::vector<Point> leg{makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.005F, 0.1F),
-                               makePoint(0.5F, 0.0F, 0.111F)};
+  const std::vector<Point> leg{ makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.005F, 0.1F),
+                                makePoint(0.5F, 0.0F, 0.111F) };
   std::vector<std::uint32_t> accepted;
   const NoiseStats& first = filter.apply(leg.data(), allIndices(leg), accepted);
   EXPECT_TRUE(accepted.empty());
@@ -167,17 +167,17 @@ TEST(NoiseFilter, BothTestsCombine)
 TEST(NoiseFilter, DisabledAcceptsEverything)
 {
   NoiseFilter filter = makeFilter(1, 1);
-  const std::vector<Point> points{makePoint(0.2F, 0.1F, 0.1F), makePoint(0.7F, -0.1F, 0.05F)};
+  const std::vector<Point> points{ makePoint(0.2F, 0.1F, 0.1F), makePoint(0.7F, -0.1F, 0.05F) };
   EXPECT_EQ(acceptedCount(filter, points), 2U);
 }
 
 TEST(NoiseFilter, OnlyCandidatesAreConsidered)
 {
   NoiseFilter filter = makeFilter(2, 1);
-  const std::vector<Point> points{makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.005F, 0.1F),
-                                  makePoint(0.5F, 0.01F, 0.1F)};
+  const std::vector<Point> points{ makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.005F, 0.1F),
+                                   makePoint(0.5F, 0.01F, 0.1F) };
   std::vector<std::uint32_t> accepted;
-  filter.apply(points.data(), {0U, 2U}, accepted);
+  filter.apply(points.data(), { 0U, 2U }, accepted);
   ASSERT_EQ(accepted.size(), 2U);
   EXPECT_EQ(accepted[0], 0U);
   EXPECT_EQ(accepted[1], 2U);
@@ -186,16 +186,24 @@ TEST(NoiseFilter, OnlyCandidatesAreConsidered)
 TEST(NoiseFilter, BadParametersThrowNamingTheParameter)
 {
   const WorkingVolume volume;
-  const char* names[] = {"min_cluster_size", "persistence_frames", "cluster_tolerance", "persistence_tolerance"};
+  const char* names[] = { "min_cluster_size", "persistence_frames", "cluster_tolerance", "persistence_tolerance" };
   for (int k = 0; k < 4; ++k)
   {
     NoiseFilterParams p;
     switch (k)
     {
-      case 0: p.min_cluster_size = -2; break;
-      case 1: p.persistence_frames = 0; break;
-      case 2: p.cluster_tolerance = std::nan(""); break;
-      default: p.persistence_tolerance = 5.0; break;
+      case 0:
+        p.min_cluster_size = -2;
+        break;
+      case 1:
+        p.persistence_frames = 0;
+        break;
+      case 2:
+        p.cluster_tolerance = std::nan("");
+        break;
+      default:
+        p.persistence_tolerance = 5.0;
+        break;
     }
     NoiseFilter filter;
     try

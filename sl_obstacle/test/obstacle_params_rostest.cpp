@@ -95,24 +95,58 @@ TEST(ObstacleParams, BadValuesFailNamingTheParameter)
   auto ns = [&n]() { return "~bad" + std::to_string(n++); };
   std::string s;
 
-  s = ns(); ros::param::set(s + "/width", -1.0); expectRejected(s, "width");
-  s = ns(); ros::param::set(s + "/width", 50.0); expectRejected(s, "width");
-  s = ns(); ros::param::set(s + "/depth", 1.5); expectRejected(s, "depth");  // beyond max_range
-  s = ns(); ros::param::set(s + "/min_speed", 0.3); expectRejected(s, "min_speed");  // above max_speed
-  s = ns(); ros::param::set(s + "/sectors", 0); expectRejected(s, "sectors");
-  s = ns(); ros::param::set(s + "/max_turns", 2.5); expectRejected(s, "max_turns");  // wrong type
-  s = ns(); ros::param::set(s + "/enabled", std::string("yes")); expectRejected(s, "enabled");
-  s = ns(); ros::param::set(s + "/safety_margin", 0.78); ros::param::set(s + "/slow_distance", 0.79);
+  s = ns();
+  ros::param::set(s + "/width", -1.0);
+  expectRejected(s, "width");
+  s = ns();
+  ros::param::set(s + "/width", 50.0);
+  expectRejected(s, "width");
+  s = ns();
+  ros::param::set(s + "/depth", 1.5);
+  expectRejected(s, "depth");  // beyond max_range
+  s = ns();
+  ros::param::set(s + "/min_speed", 0.3);
+  expectRejected(s, "min_speed");  // above max_speed
+  s = ns();
+  ros::param::set(s + "/sectors", 0);
+  expectRejected(s, "sectors");
+  s = ns();
+  ros::param::set(s + "/max_turns", 2.5);
+  expectRejected(s, "max_turns");  // wrong type
+  s = ns();
+  ros::param::set(s + "/enabled", std::string("yes"));
+  expectRejected(s, "enabled");
+  s = ns();
+  ros::param::set(s + "/safety_margin", 0.78);
+  ros::param::set(s + "/slow_distance", 0.79);
   expectRejected(s, "safety_margin");  // margin + min_goal_distance >= depth
-  s = ns(); ros::param::set(s + "/command_mode", std::string("fly")); expectRejected(s, "command_mode");
-  s = ns(); ros::param::set(s + "/control_rate", 0.0); expectRejected(s, "control_rate");
-  s = ns(); ros::param::set(s + "/target_frame", std::string("")); expectRejected(s, "target_frame");
-  s = ns(); ros::param::set(s + "/odom_frame", 3); expectRejected(s, "odom_frame");  // wrong type
-  s = ns(); ros::param::set(s + "/map_resolution", 0.5); expectRejected(s, "map_resolution");
-  s = ns(); ros::param::set(s + "/map_slices", 0); expectRejected(s, "map_slices");
-  s = ns(); ros::param::set(s + "/check_distance", 3.0); expectRejected(s, "check_distance");  // > map_size / 2
-  s = ns(); ros::param::set(s + "/deceleration", -1.0); expectRejected(s, "deceleration");
-  s = ns(); ros::param::set(s + "/use_map", 1.0); expectRejected(s, "use_map");  // wrong type
+  s = ns();
+  ros::param::set(s + "/command_mode", std::string("fly"));
+  expectRejected(s, "command_mode");
+  s = ns();
+  ros::param::set(s + "/control_rate", 0.0);
+  expectRejected(s, "control_rate");
+  s = ns();
+  ros::param::set(s + "/target_frame", std::string(""));
+  expectRejected(s, "target_frame");
+  s = ns();
+  ros::param::set(s + "/odom_frame", 3);
+  expectRejected(s, "odom_frame");  // wrong type
+  s = ns();
+  ros::param::set(s + "/map_resolution", 0.5);
+  expectRejected(s, "map_resolution");
+  s = ns();
+  ros::param::set(s + "/map_slices", 0);
+  expectRejected(s, "map_slices");
+  s = ns();
+  ros::param::set(s + "/check_distance", 3.0);
+  expectRejected(s, "check_distance");  // > map_size / 2
+  s = ns();
+  ros::param::set(s + "/deceleration", -1.0);
+  expectRejected(s, "deceleration");
+  s = ns();
+  ros::param::set(s + "/use_map", 1.0);
+  expectRejected(s, "use_map");  // wrong type
 }
 
 TEST(ObstacleParams, FilterDefaultsEqualTheCoreDefaultsAndBadValuesAreNamed)
@@ -178,8 +212,7 @@ TEST(ObstacleParams, MapDefaultsEqualTheCoreDefaults)
 }
 
 /// A cloud of @p n points with FLOAT32 fields x, y, z, sx, sy, sz and, if @p state, UINT8 state.
-sensor_msgs::PointCloud2 rayCloud(const std::vector<std::array<float, 7>>& points, bool state = true,
-                                  bool start = true)
+sensor_msgs::PointCloud2 rayCloud(const std::vector<std::array<float, 7>>& points, bool state = true, bool start = true)
 {
   sensor_msgs::PointCloud2 c;
   const char* names[6] = { "x", "y", "z", "sx", "sy", "sz" };

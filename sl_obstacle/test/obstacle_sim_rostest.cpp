@@ -154,8 +154,7 @@ TEST(ObstacleSim, A_DrivesTowardTheWall)
       << "no true_pose or obstacle_status (is create_sim running?)";
   ASSERT_TRUE(o.waitFor(
       [&] {
-        return (o.status.state == ObstacleStatus::DRIVING || o.status.state == ObstacleStatus::SLOWING) &&
-               o.x > 0.03;
+        return (o.status.state == ObstacleStatus::DRIVING || o.status.state == ObstacleStatus::SLOWING) && o.x > 0.03;
       },
       120.0))
       << "the robot did not start driving: " << describe(o.status) << ", x " << o.x;
@@ -171,9 +170,8 @@ TEST(ObstacleSim, B_StaleDataStopsTheRobot)
   Observer& o = *observer;
   ASSERT_TRUE(setCloudSource(false));
   ASSERT_TRUE(o.waitFor(
-      [&] {
-        return o.status.state == ObstacleStatus::STALE && o.status.reason_code == ObstacleStatus::REASON_STALE_DATA;
-      },
+      [&]
+      { return o.status.state == ObstacleStatus::STALE && o.status.reason_code == ObstacleStatus::REASON_STALE_DATA; },
       60.0))
       << "no STALE status after the clouds stopped: " << describe(o.status);
   {
@@ -201,10 +199,7 @@ TEST(ObstacleSim, C_PreemptsTheGoalWhenTheWallComesNearer)
   }
   ASSERT_TRUE(setCloudSource(true));
   ASSERT_TRUE(o.waitFor(
-      [&] {
-        return o.status.reason_code == ObstacleStatus::REASON_GOAL_RUNNING && o.x > x_stopped + 0.01;
-      },
-      120.0))
+      [&] { return o.status.reason_code == ObstacleStatus::REASON_GOAL_RUNNING && o.x > x_stopped + 0.01; }, 120.0))
       << "the robot did not drive on: " << describe(o.status) << ", x " << o.x;
   double new_wall;
   {
@@ -224,7 +219,8 @@ TEST(ObstacleSim, D_StopsBeforeTheWallAndSaysWhy)
 {
   Observer& o = *observer;
   ASSERT_TRUE(o.waitFor(
-      [&] {
+      [&]
+      {
         return o.status.state == ObstacleStatus::BLOCKED && o.status.blocked &&
                o.status.reason_code == ObstacleStatus::REASON_OBSTACLE;
       },
@@ -261,8 +257,7 @@ TEST(ObstacleSim, E_TurnsInPlaceWhenAllowed)
     yaw_before = o.yaw;
   }
   ASSERT_TRUE(o.waitFor([&] { return o.saw_turning; }, 60.0)) << "no TURNING state: " << describe(o.status);
-  ASSERT_TRUE(o.waitFor(
-      [&] { return std::fabs(std::remainder(o.yaw - yaw_before, 2.0 * M_PI)) > 0.3; }, 120.0))
+  ASSERT_TRUE(o.waitFor([&] { return std::fabs(std::remainder(o.yaw - yaw_before, 2.0 * M_PI)) > 0.3; }, 120.0))
       << "the robot did not turn: yaw " << o.yaw << " before " << yaw_before;
   std::lock_guard<std::mutex> lock(o.mutex);
   ROS_INFO("E: yaw %.3f (before %.3f), x %.3f, farthest extent %.3f: %s", o.yaw, yaw_before, o.x, o.max_extent_x,

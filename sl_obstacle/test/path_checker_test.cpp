@@ -17,8 +17,8 @@ namespace
 constexpr double kRes = 0.02;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-const FootprintParams kFp;                 // radius 0.1675 + margin 0.02
-const double kR = kFp.sweptRadius();       // 0.1875
+const FootprintParams kFp;            // radius 0.1675 + margin 0.02
+const double kR = kFp.sweptRadius();  // 0.1875
 
 /// Rays along x from x0 to x1 in both height slices, every half cell across [y0, y1].
 std::vector<MapRay> rectRays(float x0, float x1, float y0, float y1, RayKind kind)
@@ -86,8 +86,7 @@ TEST(PathChecker, WallAheadGivesTheObstacleDistance)
   EXPECT_NEAR(sweepStraight(map, kFp, 1.3, 0.0, kPi, 1, 1.5, 0.0).obstacle, 1.3 - 0.81 - kR, kRes);
   EXPECT_NEAR(sweepStraight(map, kFp, 1.3, 0.0, 0.0, -1, 1.5, 0.0).obstacle, 1.3 - 0.81 - kR, kRes);
   // Driving along the wall (it stays beside the path) does not touch it.
-  EXPECT_EQ(sweepStraight(map, kFp, 0.5, 0.0, kPi / 2, 1, 0.25, 0.0).obstacle,
-            std::numeric_limits<double>::infinity());
+  EXPECT_EQ(sweepStraight(map, kFp, 0.5, 0.0, kPi / 2, 1, 0.25, 0.0).obstacle, std::numeric_limits<double>::infinity());
 }
 
 TEST(PathChecker, ObstacleDistanceInAnyDirection)
@@ -110,8 +109,8 @@ TEST(PathChecker, ObstacleDistanceInAnyDirection)
 TEST(PathChecker, TurnedTowardANeverSeenZoneTheNearFieldIsUnknown)
 {
   LocalMap map{ MapParams() };
-  map.markFreeDisc(0.0, 0.0, kR, 0.0);        // the robot's own footprint
-  clearRect(map, 0.5F, 1.5F, -0.5F, 0.5F);     // the sensor sees from 0.5 m on
+  map.markFreeDisc(0.0, 0.0, kR, 0.0);      // the robot's own footprint
+  clearRect(map, 0.5F, 1.5F, -0.5F, 0.5F);  // the sensor sees from 0.5 m on
   const PathResult r = sweepStraight(map, kFp, 0.0, 0.0, 0.0, 1, 1.2, 0.0);
   EXPECT_LT(r.free, kRes);
   EXPECT_LT(r.unknown, kRes);
@@ -216,7 +215,8 @@ TEST(PathChecker, DecayedMapIsUnknownAgain)
 
 TEST(PathChecker, BadParametersThrowNamingTheField)
 {
-  const auto message = [](const FootprintParams& fp) {
+  const auto message = [](const FootprintParams& fp)
+  {
     try
     {
       fp.validate();

@@ -34,8 +34,7 @@ void insertRect(LocalMap& map, float x0, float x1, float y0, float y1, RayKind k
 /// Free space from x0 to a wall of decoded points at wall_x, |y| <= half.
 void wallMap(LocalMap& map, double wall_x, double half = 0.6)
 {
-  insertRect(map, -0.4F, static_cast<float>(wall_x), static_cast<float>(-half), static_cast<float>(half),
-             RayKind::Hit);
+  insertRect(map, -0.4F, static_cast<float>(wall_x), static_cast<float>(-half), static_cast<float>(half), RayKind::Hit);
 }
 
 /// The wall as the cloud sees it: points on x = wall_x every 5 mm, in the robot's frame at robot_x.
@@ -100,9 +99,9 @@ TEST(SafetyFilter, StraightAtAWallFollowsTheStoppingFormula)
       EXPECT_NEAR(out.travel, d, 1e-6) << "at x " << x;
     }
     EXPECT_NEAR(out.scale, expected / 0.3, 1e-6);
-    EXPECT_EQ(out.reason, expected == 0.3   ? FilterReason::PASSED :
-                          expected > 0.0    ? FilterReason::LIMITED :
-                                              FilterReason::STOPPED_OBSTACLE)
+    EXPECT_EQ(out.reason, expected == 0.3  ? FilterReason::PASSED
+                          : expected > 0.0 ? FilterReason::LIMITED
+                                           : FilterReason::STOPPED_OBSTACLE)
         << "at x " << x;
   }
 }
@@ -126,7 +125,7 @@ TEST(SafetyFilter, AnArcThatGrazesALegIsSlowedByTheLegNotByTheWall)
   LocalMap map{ MapParams() };
   insertRect(map, -0.4F, 2.0F, -0.8F, 1.2F, RayKind::Free);
   insertRect(map, 1.6F, 1.62F, -0.8F, 1.2F, RayKind::Hit);  // a wall 1.6 m ahead
-  map.markOccupiedDisc(0.61, 0.31, 0.011, 0.0);  // a 20 mm leg beside the straight path
+  map.markOccupiedDisc(0.61, 0.31, 0.011, 0.0);             // a 20 mm leg beside the straight path
   const std::vector<Point2> leg{ { 0.61, 0.31 } };
   FilterParams p;
   p.clearance = 0.40;

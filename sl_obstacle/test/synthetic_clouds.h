@@ -1,8 +1,7 @@
 // Synthetic clouds for the sl_obstacle gtests: a ray caster that imitates the structured-light sensor
 // (16 x 64 dots whose rays cover the 331 x 173 mm window at 675 mm) over a scene of axis-aligned boxes
 // and the floor, plus helpers for hand-placed points.
-#ifndef SL_OBSTACLE_TEST_SYNTHETIC_CLOUDS_H
-#define SL_OBSTACLE_TEST_SYNTHETIC_CLOUDS_H
+#pragma once
 
 #include <algorithm>
 #include <cmath>
@@ -30,19 +29,19 @@ struct Scene
   /// A wall facing the robot at distance x, wide and tall.
   Scene& wall(double x, double thickness = 0.05)
   {
-    boxes.push_back(SceneBox{x, x + thickness, -5.0, 5.0, -0.1, 3.0});
+    boxes.push_back(SceneBox{ x, x + thickness, -5.0, 5.0, -0.1, 3.0 });
     return *this;
   }
   /// A wall covering only y in [y0, y1].
   Scene& wallPart(double x, double y0, double y1)
   {
-    boxes.push_back(SceneBox{x, x + 0.05, y0, y1, -0.1, 3.0});
+    boxes.push_back(SceneBox{ x, x + 0.05, y0, y1, -0.1, 3.0 });
     return *this;
   }
   /// A vertical leg of square cross-section @p size centred at (x + size/2, y).
   Scene& leg(double x, double y, double size = 0.02)
   {
-    boxes.push_back(SceneBox{x, x + size, y - 0.5 * size, y + 0.5 * size, -0.1, 0.75});
+    boxes.push_back(SceneBox{ x, x + size, y - 0.5 * size, y + 0.5 * size, -0.1, 0.75 });
     return *this;
   }
 };
@@ -65,8 +64,8 @@ struct SensorModel
 /// Ray-box intersection (slab method). @return entry distance along the unit ray or +inf.
 inline double hitBox(const double o[3], const double d[3], const SceneBox& b)
 {
-  const double lo[3] = {b.x0, b.y0, b.z0};
-  const double hi[3] = {b.x1, b.y1, b.z1};
+  const double lo[3] = { b.x0, b.y0, b.z0 };
+  const double hi[3] = { b.x1, b.y1, b.z1 };
   double t0 = 0.0;
   double t1 = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k)
@@ -99,14 +98,14 @@ inline double hitBox(const double o[3], const double d[3], const SceneBox& b)
 inline std::vector<Point> render(const Scene& scene, const SensorModel& sensor = SensorModel())
 {
   std::vector<Point> out;
-  const double o[3] = {sensor.origin_x, sensor.origin_y, sensor.origin_z};
+  const double o[3] = { sensor.origin_x, sensor.origin_y, sensor.origin_z };
   for (int r = 0; r < sensor.rows; ++r)
   {
     for (int c = 0; c < sensor.cols; ++c)
     {
       const double ty = -0.5 * sensor.width + sensor.width * (c + 0.5) / sensor.cols;
       const double tz = sensor.height * (r + 0.5) / sensor.rows;
-      double d[3] = {sensor.focus_x - o[0], ty - o[1], tz - o[2]};
+      double d[3] = { sensor.focus_x - o[0], ty - o[1], tz - o[2] };
       const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       for (double& v : d)
       {
@@ -165,5 +164,3 @@ inline std::vector<Point> operator+(std::vector<Point> cloud, const std::vector<
 }
 }  // namespace test
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_TEST_SYNTHETIC_CLOUDS_H

@@ -107,7 +107,7 @@ TEST(VolumeChecker, CoverageShrinksAsTheWallComesCloser)
 {
   VolumeChecker checker(geometryOnly());
   double previous = 2.0;
-  for (double x : {0.7, 0.5, 0.35, 0.2, 0.1})
+  for (double x : { 0.7, 0.5, 0.35, 0.2, 0.1 })
   {
     const double coverage = checker.analyze(render(Scene().wall(x))).coverage;
     EXPECT_LT(coverage, previous) << "wall at " << x;
@@ -174,8 +174,8 @@ TEST(VolumeChecker, FloorPointsAreNotObstacles)
   {
     for (double y = -0.16; y <= 0.16; y += 0.02)
     {
-      floor.push_back(makePoint(static_cast<float>(x), static_cast<float>(y), 0.01F));   // below margin
-      floor.push_back(makePoint(static_cast<float>(x), static_cast<float>(y), -0.005F)); // noise below 0
+      floor.push_back(makePoint(static_cast<float>(x), static_cast<float>(y), 0.01F));    // below margin
+      floor.push_back(makePoint(static_cast<float>(x), static_cast<float>(y), -0.005F));  // noise below 0
     }
   }
   const VolumeResult& r = checker.analyze(floor);
@@ -273,24 +273,24 @@ TEST(VolumeChecker, PointsJustOutsideEachFaceAreNotInTheBox)
   const float top = static_cast<float>(v.height);
   const float floor = static_cast<float>(v.floor_margin);
   const FaceCase cases[] = {
-      {"beyond the far face (x > depth)", depth + e, 0.0F, 0.1F, false},
-      {"just before the far face", depth - e, 0.0F, 0.1F, true},
-      {"behind the front face (x < 0)", -e, 0.0F, 0.1F, false},
-      {"on the front face (x = 0)", 0.0F, 0.0F, 0.1F, false},
-      {"just in front of the robot", e, 0.0F, 0.1F, true},
-      {"left of the left face", 0.4F, half + e, 0.1F, false},
-      {"just inside the left face", 0.4F, half - e, 0.1F, true},
-      {"right of the right face", 0.4F, -half - e, 0.1F, false},
-      {"just inside the right face", 0.4F, -half + e, 0.1F, true},
-      {"above the top face", 0.4F, 0.0F, top + e, false},
-      {"just below the top face", 0.4F, 0.0F, top - e, true},
-      {"below the bottom face (floor)", 0.4F, 0.0F, floor - e, false},
-      {"just above the bottom face", 0.4F, 0.0F, floor + e, true},
+    { "beyond the far face (x > depth)", depth + e, 0.0F, 0.1F, false },
+    { "just before the far face", depth - e, 0.0F, 0.1F, true },
+    { "behind the front face (x < 0)", -e, 0.0F, 0.1F, false },
+    { "on the front face (x = 0)", 0.0F, 0.0F, 0.1F, false },
+    { "just in front of the robot", e, 0.0F, 0.1F, true },
+    { "left of the left face", 0.4F, half + e, 0.1F, false },
+    { "just inside the left face", 0.4F, half - e, 0.1F, true },
+    { "right of the right face", 0.4F, -half - e, 0.1F, false },
+    { "just inside the right face", 0.4F, -half + e, 0.1F, true },
+    { "above the top face", 0.4F, 0.0F, top + e, false },
+    { "just below the top face", 0.4F, 0.0F, top - e, true },
+    { "below the bottom face (floor)", 0.4F, 0.0F, floor - e, false },
+    { "just above the bottom face", 0.4F, 0.0F, floor + e, true },
   };
   for (const FaceCase& c : cases)
   {
     VolumeChecker checker(params);
-    const std::vector<Point> cloud{makePoint(c.x, c.y, c.z)};
+    const std::vector<Point> cloud{ makePoint(c.x, c.y, c.z) };
     const VolumeResult& r = checker.analyze(cloud);
     EXPECT_EQ(r.in_box_points, c.inside ? 1U : 0U) << c.name;
     EXPECT_EQ(r.obstacle_points, c.inside ? 1U : 0U) << c.name;
@@ -343,10 +343,10 @@ TEST(VolumeChecker, LowConfidenceAndOutOfRangePointsAreIgnored)
   params.min_confidence = 0.5;
   VolumeChecker checker(params);
   const std::vector<Point> cloud{
-      makePoint(0.3F, 0.0F, 0.1F, 0.2F),                  // low confidence
-      makePoint(0.3F, 0.0F, 0.1F, std::nanf("")),         // NaN confidence
-      makePoint(1.2F, 0.0F, 0.1F, 1.0F),                  // beyond max_range
-      makePoint(0.4F, 0.0F, 0.1F, 0.9F),                  // valid obstacle
+    makePoint(0.3F, 0.0F, 0.1F, 0.2F),           // low confidence
+    makePoint(0.3F, 0.0F, 0.1F, std::nanf("")),  // NaN confidence
+    makePoint(1.2F, 0.0F, 0.1F, 1.0F),           // beyond max_range
+    makePoint(0.4F, 0.0F, 0.1F, 0.9F),           // valid obstacle
   };
   const VolumeResult& r = checker.analyze(cloud);
   EXPECT_EQ(r.low_confidence_points, 2U);
@@ -381,22 +381,22 @@ TEST(VolumeChecker, BadParametersAreRejectedNamingTheParameter)
     void (*spoil)(CheckerParams&);
   };
   const BadCase cases[] = {
-      {"width", [](CheckerParams& p) { p.volume.width = 0.0; }},
-      {"width", [](CheckerParams& p) { p.volume.width = -0.3; }},
-      {"height", [](CheckerParams& p) { p.volume.height = std::nan(""); }},
-      {"depth", [](CheckerParams& p) { p.volume.depth = -1.0; }},
-      {"depth", [](CheckerParams& p) { p.volume.depth = 1.5; }},  // beyond max_range
-      {"floor_margin", [](CheckerParams& p) { p.volume.floor_margin = -0.01; }},
-      {"floor_margin", [](CheckerParams& p) { p.volume.floor_margin = 0.2; }},  // above height
-      {"max_range", [](CheckerParams& p) { p.volume.max_range = std::numeric_limits<double>::infinity(); }},
-      {"sectors", [](CheckerParams& p) { p.sectors = 0; }},
-      {"cell_size", [](CheckerParams& p) { p.cell_size = 0.0; }},
-      {"cell_size", [](CheckerParams& p) { p.cell_size = 0.5; }},  // larger than the window
-      {"min_confidence", [](CheckerParams& p) { p.min_confidence = -1.0; }},
-      {"min_cluster_size", [](CheckerParams& p) { p.noise.min_cluster_size = 0; }},
-      {"cluster_tolerance", [](CheckerParams& p) { p.noise.cluster_tolerance = 0.0; }},
-      {"persistence_frames", [](CheckerParams& p) { p.noise.persistence_frames = 0; }},
-      {"persistence_tolerance", [](CheckerParams& p) { p.noise.persistence_tolerance = -0.1; }},
+    { "width", [](CheckerParams& p) { p.volume.width = 0.0; } },
+    { "width", [](CheckerParams& p) { p.volume.width = -0.3; } },
+    { "height", [](CheckerParams& p) { p.volume.height = std::nan(""); } },
+    { "depth", [](CheckerParams& p) { p.volume.depth = -1.0; } },
+    { "depth", [](CheckerParams& p) { p.volume.depth = 1.5; } },  // beyond max_range
+    { "floor_margin", [](CheckerParams& p) { p.volume.floor_margin = -0.01; } },
+    { "floor_margin", [](CheckerParams& p) { p.volume.floor_margin = 0.2; } },  // above height
+    { "max_range", [](CheckerParams& p) { p.volume.max_range = std::numeric_limits<double>::infinity(); } },
+    { "sectors", [](CheckerParams& p) { p.sectors = 0; } },
+    { "cell_size", [](CheckerParams& p) { p.cell_size = 0.0; } },
+    { "cell_size", [](CheckerParams& p) { p.cell_size = 0.5; } },  // larger than the window
+    { "min_confidence", [](CheckerParams& p) { p.min_confidence = -1.0; } },
+    { "min_cluster_size", [](CheckerParams& p) { p.noise.min_cluster_size = 0; } },
+    { "cluster_tolerance", [](CheckerParams& p) { p.noise.cluster_tolerance = 0.0; } },
+    { "persistence_frames", [](CheckerParams& p) { p.noise.persistence_frames = 0; } },
+    { "persistence_tolerance", [](CheckerParams& p) { p.noise.persistence_tolerance = -0.1; } },
   };
   for (const BadCase& c : cases)
   {
@@ -420,7 +420,7 @@ TEST(VolumeChecker, BadParametersAreRejectedNamingTheParameter)
 TEST(VolumeChecker, SetParamsChangesTheBox)
 {
   VolumeChecker checker(geometryOnly());
-  const std::vector<Point> cloud{makePoint(0.4F, 0.0F, 0.2F)};  // above the default height
+  const std::vector<Point> cloud{ makePoint(0.4F, 0.0F, 0.2F) };  // above the default height
   EXPECT_EQ(checker.analyze(cloud).in_box_points, 0U);
   CheckerParams taller = geometryOnly();
   taller.volume.height = 0.25;

@@ -57,7 +57,8 @@ TEST(Params, WrongTypesAreRefusedNamingTheParameter)
             "~a_double_for_an_int must be an integer, got a number");
   EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "a_number_for_a_bool", false); }),
             "~a_number_for_a_bool must be a boolean, got an integer");
-  EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "an_int", std::string()); }), "~an_int must be a string, got an integer");
+  EXPECT_EQ(errorOf([&] { sl_params::read(pnh, "an_int", std::string()); }),
+            "~an_int must be a string, got an integer");
   EXPECT_EQ(sl_params::read<uint64_t>(pnh, "an_int", 0), 3u);  // unsigned 64-bit: range compared unsigned
   EXPECT_EQ(errorOf([&] { sl_params::read<uint8_t>(pnh, "too_big_for_a_byte", 0); }),
             "~too_big_for_a_byte must be an integer in [0, 255], got 300");

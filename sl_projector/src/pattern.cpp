@@ -30,13 +30,14 @@ void PatternConfig::validate() const
   require(offset_y >= 0, "offset_y must be >= 0, got " + std::to_string(offset_y));
   require(projector_width > 0, "projector_width must be > 0, got " + std::to_string(projector_width));
   require(projector_height > 0, "projector_height must be > 0, got " + std::to_string(projector_height));
-  require(projector_width <= kMaxImageSide, "projector_width must be <= " + std::to_string(kMaxImageSide) + ", got " +
-                                                std::to_string(projector_width));
-  require(projector_height <= kMaxImageSide, "projector_height must be <= " + std::to_string(kMaxImageSide) +
-                                                 ", got " + std::to_string(projector_height));
+  require(projector_width <= kMaxImageSide,
+          "projector_width must be <= " + std::to_string(kMaxImageSide) + ", got " + std::to_string(projector_width));
+  require(projector_height <= kMaxImageSide,
+          "projector_height must be <= " + std::to_string(kMaxImageSide) + ", got " + std::to_string(projector_height));
   // Each of these alone must fit in the frame, so the sums and products below cannot overflow
   // (primitive_width 2147483647 with gap_x 1 once wrapped to a negative cell width and passed).
-  auto fitsIn = [](const char* field, int value, const char* side_name, int side) {
+  auto fitsIn = [](const char* field, int value, const char* side_name, int side)
+  {
     require(value <= side, std::string(field) + " must be <= " + side_name + " (" + std::to_string(side) + "), got " +
                                std::to_string(value));
   };

@@ -139,7 +139,8 @@ std::vector<DepthModel> readModels(const YAML::Node& tables, const std::string& 
   const std::string path = "depth_tables." + name;
   const std::vector<double> a = numbers(t, "a", path, source, count, count);
   const std::vector<double> b = numbers(t, "b", path, source, count, count);
-  const std::vector<double> c = rational ? numbers(t, "c", path, source, count, count) : std::vector<double>(count, 0.0);
+  const std::vector<double> c =
+      rational ? numbers(t, "c", path, source, count, count) : std::vector<double>(count, 0.0);
   const std::vector<double> rms = numbers(t, "rms", path, source, count, count);
   out.resize(count);
   for (size_t i = 0; i < count; ++i)

@@ -12,7 +12,8 @@ WordTable::WordTable(const PatternArray& array) : array_(array), alphabet_(array
   for (int i = 0; i < 5; ++i)
     size *= alphabet_;
   if (size > (1LL << 26))
-    throw std::invalid_argument("WordTable: alphabet " + std::to_string(alphabet_) + " is too large for a direct table");
+    throw std::invalid_argument("WordTable: alphabet " + std::to_string(alphabet_) +
+                                " is too large for a direct table");
   table_.assign(static_cast<size_t>(size), -1);
   for (int r = 1; r + 1 < array.rows(); ++r)
   {

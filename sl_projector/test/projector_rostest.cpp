@@ -84,7 +84,8 @@ public:
     while (ros::WallTime::now() < give_up)
     {
       drain();
-      if (std::all_of(texts.begin(), texts.end(), [&](const std::string& t) { return output_.find(t) != std::string::npos; }))
+      if (std::all_of(texts.begin(), texts.end(),
+                      [&](const std::string& t) { return output_.find(t) != std::string::npos; }))
         return true;
       if (!running())
         break;
@@ -173,7 +174,8 @@ TEST(ProjectorNode, InvalidParameterFailsNamingIt)
   EXPECT_NE(out.find("~columns"), std::string::npos) << out;
 
   out.clear();
-  const int status3 = run("rosrun sl_projector projector_node __name:=bad_projector3 _calibration_file:=/no/such.yaml", out);
+  const int status3 =
+      run("rosrun sl_projector projector_node __name:=bad_projector3 _calibration_file:=/no/such.yaml", out);
   EXPECT_NE(status3, 0) << out;
   EXPECT_NE(out.find("~calibration_file: /no/such.yaml: cannot open"), std::string::npos) << out;
 

@@ -185,7 +185,7 @@ TEST(Rig, RoundTripIsExact)
       << "an exponent keeps a '.' (a float to YAML 1.1 readers too):\n"
       << yaml;
   EXPECT_NE(yaml.find("rotation: [0.994001447, -0.0269034905,"), std::string::npos) << "short numbers stay short:\n"
-                                                                                   << yaml;
+                                                                                    << yaml;
 }
 
 // Found by fuzz/rig_parser_fuzz.cpp (corpus: parent_frame_binary_round_trip.yaml): a parent frame
@@ -198,7 +198,8 @@ TEST(Rig, ParentFrameMustBeAFrameName)
   const std::string e = parseError(binary);
   EXPECT_NE(e.find("mount.parent_frame: must be a frame name (letters, digits, '_' and '/')"), std::string::npos) << e;
   EXPECT_NE(e.find("got 'platform_edge" + std::string(3, '?') + "'"), std::string::npos) << "bytes shown as '?': " << e;
-  EXPECT_NE(parseError(replaced(good, line, "parent_frame: 'base link'")).find("mount.parent_frame"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, line, "parent_frame: 'base link'")).find("mount.parent_frame"),
+            std::string::npos);
   EXPECT_NE(parseError(replaced(good, line, "parent_frame: ''")).find("mount.parent_frame"), std::string::npos);
   EXPECT_EQ(parseError(replaced(good, line, "parent_frame: /robot/base_link2")), "");
 }
@@ -212,14 +213,18 @@ TEST(Rig, BadFilesNameTheKey)
   EXPECT_NE(parseError(replaced(good, "[1492.0, 0.0, 372.0, 0.0, 1492.0, 243.0, 0.0, 0.0, 1.0]", "[1492.0, 0.0]"))
                 .find("camera.K: has 2 numbers, expected 9"),
             std::string::npos);
-  EXPECT_NE(parseError(replaced(good, "rotation: [0.994001447", "rotation: [0.9")).find("projector_pose.rotation: is not orthonormal"),
+  EXPECT_NE(parseError(replaced(good, "rotation: [0.994001447", "rotation: [0.9"))
+                .find("projector_pose.rotation: is not orthonormal"),
             std::string::npos);
-  EXPECT_NE(parseError(replaced(good, "translation: [0.05524", "translation: [55.24")).find("projector_pose.translation"),
-            std::string::npos);
+  EXPECT_NE(
+      parseError(replaced(good, "translation: [0.05524", "translation: [55.24")).find("projector_pose.translation"),
+      std::string::npos);
   EXPECT_NE(parseError(replaced(good, "width: 752", "width: wide")).find("camera.width: cannot read 'wide'"),
             std::string::npos);
-  EXPECT_NE(parseError(replaced(good, "width: 752", "width: -752")).find("camera.width: must be > 0"), std::string::npos);
-  EXPECT_NE(parseError(replaced(good, "format_version: 1", "format_version: 7")).find("format_version"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "width: 752", "width: -752")).find("camera.width: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "format_version: 1", "format_version: 7")).find("format_version"),
+            std::string::npos);
   EXPECT_NE(parseError(replaced(good, "cols: 64", "cols: 70")).find("pattern."), std::string::npos);
   EXPECT_NE(parseError(replaced(good, "D: [0.02", "D: [.nan")).find("projector.D"), std::string::npos);
   EXPECT_NE(parseError(replaced(good, "pattern:", "patterns:")).find("pattern: missing"), std::string::npos);
@@ -259,7 +264,8 @@ TEST(Rig, ImageSizesAreBounded)
   // The largest allowed camera loads.
   EXPECT_EQ(parseError(replaced(good, camera_size, "  width: 16384\n  height: 4096")), "");
   // The projector is bounded as well (its frame is the pattern's).
-  const std::string projector = parseError(replaced(good, "  width: 480\n  height: 320", "  width: 480\n  height: 262144"));
+  const std::string projector =
+      parseError(replaced(good, "  width: 480\n  height: 320", "  width: 480\n  height: 262144"));
   EXPECT_EQ(projector.rfind("test.yaml: projector.height: must be at most 16384 px", 0), 0u) << projector;
 }
 
@@ -286,7 +292,8 @@ TEST(Rig, TableSizesAreComputedWithoutOverflow)
 TEST(Rig, HugePrimitiveSizesAreRefused)
 {
   const std::string good = readFile(kDefaultRig);
-  std::string text = replaced(replaced(good, "primitive_width: 5", "primitive_width: 2147483647"), "gap_x: 2", "gap_x: 1");
+  std::string text =
+      replaced(replaced(good, "primitive_width: 5", "primitive_width: 2147483647"), "gap_x: 2", "gap_x: 1");
   EXPECT_THROW(parseRig(text, "test.yaml"), RigFileError);
   std::string error = parseError(text);
   EXPECT_EQ(error.rfind("test.yaml: pattern.primitive_width must be <= projector_width (480)", 0), 0u) << error;

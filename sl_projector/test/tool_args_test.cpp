@@ -34,7 +34,8 @@ TEST(ToolArgs, OptionsValuesAndNumbers)
   long long frames = 0;
   double ambient = 0.0;
   const std::string error = parse({ "--csv", "out.csv", "--flag", "--frames", "12", "--ambient", "-0.25" },
-                                  [&](sl_projector::ToolArgs& args) {
+                                  [&](sl_projector::ToolArgs& args)
+                                  {
                                     for (std::string a; args.next(a);)
                                       if (a == "--csv")
                                         csv = args.value();
@@ -56,7 +57,8 @@ TEST(ToolArgs, OptionsValuesAndNumbers)
 
 TEST(ToolArgs, BadInputIsRefusedNamingTheOption)
 {
-  const auto readFrames = [](sl_projector::ToolArgs& args) {
+  const auto readFrames = [](sl_projector::ToolArgs& args)
+  {
     for (std::string a; args.next(a);)
       if (a == "--frames")
         args.integer(1, 100);

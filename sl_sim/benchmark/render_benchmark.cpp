@@ -45,8 +45,8 @@ void renderFrame(benchmark::State& state, const std::string& scene_name, const s
 {
   const sl_projector::Rig rig =
       sl_projector::loadRig(fromEnv("SL_SIM_BENCH_RIG", std::string(SL_PROJECTOR_CONFIG_DIR) + "/default_rig.yaml"));
-  const sl_sim::Scene scene = sl_sim::loadScene(
-      fromEnv("SL_SIM_BENCH_SCENE", std::string(SL_SIM_SCENES_DIR) + "/" + scene_name + ".yaml"));
+  const sl_sim::Scene scene =
+      sl_sim::loadScene(fromEnv("SL_SIM_BENCH_SCENE", std::string(SL_SIM_SCENES_DIR) + "/" + scene_name + ".yaml"));
   const cv::Mat pattern = sl_projector::Pattern(rig.pattern).render();
   sl_sim::Renderer renderer(rig, settings);
   sl_sim::RenderOutput out;

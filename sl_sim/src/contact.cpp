@@ -12,11 +12,13 @@ namespace sl_sim
 
 void ContactSettings::validate() const
 {
-  auto require = [](bool ok, const std::string& msg) {
+  auto require = [](bool ok, const std::string& msg)
+  {
     if (!ok)
       throw std::invalid_argument(msg);
   };
-  require(std::isfinite(robot_radius) && robot_radius > 0.0 && robot_radius < 10.0, "robot_radius: must be in (0, 10) m");
+  require(std::isfinite(robot_radius) && robot_radius > 0.0 && robot_radius < 10.0,
+          "robot_radius: must be in (0, 10) m");
   require(std::isfinite(contact_min_height) && contact_min_height >= 0.0, "contact_min_height: must be >= 0 m");
   require(std::isfinite(robot_height) && robot_height > contact_min_height,
           "robot_height: must be above contact_min_height");
@@ -48,7 +50,8 @@ uint8_t computeContact(const Scene& scene, const Eigen::Isometry3d& robot_in_wor
   const double step = M_PI / 180.0;
   const int n_angles = static_cast<int>(std::floor(s.bumper_half_angle / step + 1e-9));
   uint8_t bits = 0;
-  auto record = [&](double angle, double distance, int object) {
+  auto record = [&](double angle, double distance, int object)
+  {
     if (std::abs(angle) <= s.both_half_angle + 1e-9)
       bits |= kBumpLeft | kBumpRight;
     else

@@ -24,8 +24,8 @@ struct PreparedObject
   using Mat3 = Eigen::Matrix<S, 3, 3>;
 
   ObjectType type = ObjectType::Plane;
-  bool infinite = false;  ///< infinite plane
-  int index = -1;         ///< index in the scene
+  bool infinite = false;         ///< infinite plane
+  int index = -1;                ///< index in the scene
   Mat3 axes = Mat3::Identity();  ///< columns: local x, y, z in the frame
   Vec3 centre = Vec3::Zero();    ///< object centre in the frame
   Vec3 half = Vec3::Zero();      ///< box: half edges; plane: half x, half y, 0; cylinder: r, r, half height
@@ -41,8 +41,8 @@ struct PreparedObject
     switch (type)
     {
       case ObjectType::Plane:
-        half = infinite ? Vec3(std::numeric_limits<S>::infinity(), std::numeric_limits<S>::infinity(), S(0)) :
-                          Vec3(S(object.size.x() / 2), S(object.size.y() / 2), S(0));
+        half = infinite ? Vec3(std::numeric_limits<S>::infinity(), std::numeric_limits<S>::infinity(), S(0))
+                        : Vec3(S(object.size.x() / 2), S(object.size.y() / 2), S(0));
         break;
       case ObjectType::Box:
         half = (object.size / 2).cast<S>();

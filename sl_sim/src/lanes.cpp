@@ -154,8 +154,8 @@ SL_INLINE bool boxBody(const KObject& o, const float* __restrict dx, const float
 }
 
 SL_INLINE bool cylinderBody(const KObject& o, const float* __restrict dx, const float* __restrict dy,
-                            const float* __restrict dz, int n, float tmin, float* __restrict t,
-                            int32_t* __restrict obj, int32_t* __restrict part, const int32_t* __restrict self)
+                            const float* __restrict dz, int n, float tmin, float* __restrict t, int32_t* __restrict obj,
+                            int32_t* __restrict part, const int32_t* __restrict self)
 {
   const float a0x = o.a[0], a0y = o.a[1], a0z = o.a[2], a1x = o.a[3], a1y = o.a[4], a1z = o.a[5];
   const float a2x = o.a[6], a2y = o.a[7], a2z = o.a[8];
@@ -342,22 +342,22 @@ SL_INLINE void surfaceType(const KSurface& s, const float* dx, const float* dy, 
 }
 
 SL_SIMD void surfacePlane(const KSurface& s, const float* dx, const float* dy, const float* t, const int32_t* obj,
-                 const int32_t* part, int n, float* nx, float* ny, float* nz, float* albedo, int32_t* parity,
-                 float* tu, float* tv)
+                          const int32_t* part, int n, float* nx, float* ny, float* nz, float* albedo, int32_t* parity,
+                          float* tu, float* tv)
 {
   surfaceType<0>(s, dx, dy, t, obj, part, n, nx, ny, nz, albedo, parity, tu, tv);
 }
 
 SL_SIMD void surfaceBox(const KSurface& s, const float* dx, const float* dy, const float* t, const int32_t* obj,
-                 const int32_t* part, int n, float* nx, float* ny, float* nz, float* albedo, int32_t* parity,
-                 float* tu, float* tv)
+                        const int32_t* part, int n, float* nx, float* ny, float* nz, float* albedo, int32_t* parity,
+                        float* tu, float* tv)
 {
   surfaceType<1>(s, dx, dy, t, obj, part, n, nx, ny, nz, albedo, parity, tu, tv);
 }
 
 SL_SIMD void surfaceCylinder(const KSurface& s, const float* dx, const float* dy, const float* t, const int32_t* obj,
-                 const int32_t* part, int n, float* nx, float* ny, float* nz, float* albedo, int32_t* parity,
-                 float* tu, float* tv)
+                             const int32_t* part, int n, float* nx, float* ny, float* nz, float* albedo,
+                             int32_t* parity, float* tu, float* tv)
 {
   surfaceType<2>(s, dx, dy, t, obj, part, n, nx, ny, nz, albedo, parity, tu, tv);
 }
@@ -551,9 +551,9 @@ void noiseScalar(int id, float contrast, const float* tex, const int32_t* obj, c
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(SL_SIM_NO_CLONES)
 #define SL_HAVE_AVX2_KERNELS 1
-__attribute__((target("avx2,fma"), always_inline)) inline __m256 bilinearPackedAvx2(const uint32_t* levels,
-                                                                                   __m256i b, __m256i vstride,
-                                                                                   __m256 fx, __m256 fy)
+__attribute__((target("avx2,fma"), always_inline)) inline __m256 bilinearPackedAvx2(const uint32_t* levels, __m256i b,
+                                                                                    __m256i vstride, __m256 fx,
+                                                                                    __m256 fy)
 {
   const __m256i low = _mm256_set1_epi32(0xffff);
   const int* base = reinterpret_cast<const int*>(levels);
@@ -607,8 +607,8 @@ __attribute__((target("avx2,fma"))) void noiseAvx2(int id, float contrast, const
   const __m256 one = _mm256_set1_ps(1.f), vc = _mm256_set1_ps(contrast);
   for (int i = 0; i + 8 <= n; i += 8)
   {
-    const __m256 m = _mm256_castsi256_ps(
-        _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(obj + i)), vid));
+    const __m256 m =
+        _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(obj + i)), vid));
     if (_mm256_movemask_ps(m) == 0)
       continue;
     const __m256 x = _mm256_loadu_ps(tu + i), y = _mm256_loadu_ps(tv + i);
@@ -666,8 +666,8 @@ void noiseLanes(int id, float contrast, const float* noise_texture, const int32_
   noiseScalar(id, contrast, noise_texture, obj, tu, tv, n, albedo);
 }
 
-SL_SIMD void shadowLanes(const float* __restrict tsh, float t_max, int n, int32_t* __restrict lit,
-                         float* __restrict u, float* __restrict v)
+SL_SIMD void shadowLanes(const float* __restrict tsh, float t_max, int n, int32_t* __restrict lit, float* __restrict u,
+                         float* __restrict v)
 {
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i)
@@ -719,9 +719,9 @@ SL_SIMD void specularLanes(int id, float ks_norm, float shininess, const float* 
 SL_SIMD float storeTile(int rows, int cols, const float* __restrict radiance, const float* __restrict t,
                         const int32_t* __restrict obj, const int32_t* __restrict part, const int32_t* __restrict lit,
                         const int32_t* __restrict parity, const float* __restrict u, const float* __restrict v,
-                        const float* __restrict cam_sigma, float* __restrict radiance_out,
-                        float* __restrict depth_out, float* __restrict coords_out, uint16_t* __restrict keys_out,
-                        int stride, int depth_stride, int coords_stride)
+                        const float* __restrict cam_sigma, float* __restrict radiance_out, float* __restrict depth_out,
+                        float* __restrict coords_out, uint16_t* __restrict keys_out, int stride, int depth_stride,
+                        int coords_stride)
 {
   // The largest sigma, as the largest bit pattern (sigma >= 0, so the integer order is the float
   // order; an integer maximum vectorises where a float one with NaN semantics does not).
@@ -943,8 +943,8 @@ SL_SIMD void upsampleRows4(const float* __restrict src, int sw, int sh, float* _
   }
 }
 
-SL_SIMD void sensorRow(const KSensor& sensor, const KSensorRow& rows, const float* __restrict depth, int first,
-                       int n, float* __restrict scratch, uint8_t* __restrict out)
+SL_SIMD void sensorRow(const KSensor& sensor, const KSensorRow& rows, const float* __restrict depth, int first, int n,
+                       float* __restrict scratch, uint8_t* __restrict out)
 {
   const KSensor s = sensor;  // local copies: no loads from memory inside the loop
   const KSensorRow r = rows;
@@ -959,7 +959,8 @@ SL_SIMD void sensorRow(const KSensor& sensor, const KSensorRow& rows, const floa
   const float* __restrict hb = r.halo[1];
   const float f3 = r.f3, f4 = r.f4, fh = r.fh;
   const float* __restrict vignette = s.vignette;
-  const float top = s.n_levels >= 5 ? 4.f : (s.n_levels == 4 ? 2.f : (s.n_levels == 3 ? 1.f : (s.n_levels == 2 ? 0.5f : 0.f)));
+  const float top =
+      s.n_levels >= 5 ? 4.f : (s.n_levels == 4 ? 2.f : (s.n_levels == 3 ? 1.f : (s.n_levels == 2 ? 0.5f : 0.f)));
   const float glare = s.glare;
   const uint32_t ka = s.key_a, kb = s.key_b;
   const float noise = s.noise ? 1.f / 147.8f : 0.f;  // 147.8: standard deviation of a sum of 4 uniform bytes
@@ -999,9 +1000,8 @@ SL_SIMD void sensorRow(const KSensor& sensor, const KSensorRow& rows, const floa
     h ^= h >> 15;
     h *= 0x846ca68bU;
     h ^= h >> 16;
-    const float g = static_cast<float>(static_cast<int32_t>((h & 255U) + ((h >> 8) & 255U) + ((h >> 16) & 255U) +
-                                                            (h >> 24)) -
-                                       510);
+    const float g =
+        static_cast<float>(static_cast<int32_t>((h & 255U) + ((h >> 8) & 255U) + ((h >> 16) & 255U) + (h >> 24)) - 510);
     value += noise * std::sqrt(fmax2(value, 0.f) * inv_full_well + read2) * g;
     // Saturation; 12-bit linear quantisation below (truncating the non-negative value + 0.5).
     scratch[k] = fmin2(fmax2(value * 4095.f + 0.5f, 0.f), 4095.f);

@@ -37,13 +37,13 @@ float maxLanes(const float* x, int n);
 /// Surface of one object at the lanes it is the nearest hit of (rays (dx, dy, 1) from the camera).
 struct KSurface
 {
-  KObject g;               ///< geometry, origin = the camera
-  int texture = 0;         ///< TextureType as int
-  float albedo = 0.f;      ///< base albedo
-  float inv_scale = 1.f;   ///< 1 / texture scale
-  float contrast = 0.f;    ///< texture contrast
-  float off_u = 0.f, off_v = 0.f;  ///< noise texture offsets, texels
-  int cols = 0, rows = 0;  ///< checkerboard squares
+  KObject g;                                                              ///< geometry, origin = the camera
+  int texture = 0;                                                        ///< TextureType as int
+  float albedo = 0.f;                                                     ///< base albedo
+  float inv_scale = 1.f;                                                  ///< 1 / texture scale
+  float contrast = 0.f;                                                   ///< texture contrast
+  float off_u = 0.f, off_v = 0.f;                                         ///< noise texture offsets, texels
+  int cols = 0, rows = 0;                                                 ///< checkerboard squares
   float inv_square = 1.f, half_w = 0.f, half_h = 0.f, dark_albedo = 0.f;  ///< checkerboard
 };
 
@@ -61,20 +61,20 @@ void noiseLanes(int id, float contrast, const float* noise_texture, const int32_
 /// The projector and the optics, for projectLanes().
 struct KProjector
 {
-  float r[9] = {};         ///< camera -> projector rotation, row-major
-  float tr[3] = {};        ///< camera -> projector translation
-  float c[3] = {};         ///< projector centre in the camera frame
+  float r[9] = {};   ///< camera -> projector rotation, row-major
+  float tr[3] = {};  ///< camera -> projector translation
+  float c[3] = {};   ///< projector centre in the camera frame
   float fx = 0, fy = 0, cx = 0, cy = 0;
   float k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
-  float umax = 0, vmax = 0;  ///< frame size - 0.5
+  float umax = 0, vmax = 0;                                           ///< frame size - 0.5
   float frame_cx = 0, frame_cy = 0, inv_half_diag2 = 0, falloff = 0;  ///< lens falloff: 1 - falloff * r^2
-  float power_focus2 = 0;    ///< projector_power * focus distance^2
+  float power_focus2 = 0;                                             ///< projector_power * focus distance^2
   float falloff_weight = 1;  ///< 1: irradiance falls with distance^2 and the incidence cosine; 0: it does not
   float flat_power = 0;      ///< irradiance added when it does not fall (projector_power), else 0
   float defocus_k = 0, inv_focus = 0, base2 = 0, footprint_k = 0;
   float cam_defocus_k = 0, cam_inv_focus = 0, cam_base2 = 0;
-  float sigma1 = 0.3f;       ///< sigma of pattern level 1 (level 0 is sharp)
-  float max_level = 0;       ///< last pattern level
+  float sigma1 = 0.3f;  ///< sigma of pattern level 1 (level 0 is sharp)
+  float max_level = 0;  ///< last pattern level
 };
 
 /**
@@ -84,8 +84,8 @@ struct KProjector
  * point's depth along the projector's axis.
  */
 void projectLanes(const KProjector& p, const float* dx, const float* dy, const float* t, const int32_t* obj,
-                  const float* nx, const float* ny, const float* nz, int n, float* u, float* v, float* e,
-                  float* level, float* sx, float* sy, float* sz, int32_t* lit, float* cam_sigma, float* proj_depth);
+                  const float* nx, const float* ny, const float* nz, int n, float* u, float* v, float* e, float* level,
+                  float* sx, float* sy, float* sz, int32_t* lit, float* cam_sigma, float* proj_depth);
 
 /// Bounds of the lit lanes: box = {min u, max u, min v, max v, max proj_depth}; false if none is lit.
 bool litBounds(const float* u, const float* v, const int32_t* lit, const float* proj_depth, int n, float* box);
@@ -150,7 +150,7 @@ struct KSensor
   float cam_base2, cam_defocus_k, cam_inv_focus;  ///< camera blur from depth (see KProjector)
   bool noise;
   float inv_full_well, read2;
-  uint32_t key_a, key_b;   ///< frame keys from the seed
+  uint32_t key_a, key_b;  ///< frame keys from the seed
 };
 /// The low-resolution levels on one row: two upsampled source rows and the weight of the second.
 struct KSensorRow

@@ -44,13 +44,13 @@ constexpr int kLutSize = 4096;          // 12-bit linear signal -> 8-bit output
 constexpr int kTextureSize = 256;       // tileable value-noise texture
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kPrimaryTMin = 1e-4f;   // m (camera rays have z = 1, so t is the depth)
-constexpr float kShadowTMin = 1e-5f;    // fractions of the projector-to-point segment
+constexpr float kPrimaryTMin = 1e-4f;  // m (camera rays have z = 1, so t is the depth)
+constexpr float kShadowTMin = 1e-5f;   // fractions of the projector-to-point segment
 constexpr float kShadowTMax = 1.f - 2e-4f;
-constexpr size_t kMaxObjects = 2047;   // 11 bits of the anti-aliasing key
-constexpr int kCameraLevels = 5;        // blur sigma 0, 0.5, 1, 2, 4 px
+constexpr size_t kMaxObjects = 2047;  // 11 bits of the anti-aliasing key
+constexpr int kCameraLevels = 5;      // blur sigma 0, 0.5, 1, 2, 4 px
 constexpr float kCameraTopSigma[kCameraLevels] = { 0.f, 0.5f, 1.f, 2.f, 4.f };
-constexpr float kGlareSigma = 10.f;     // px
+constexpr float kGlareSigma = 10.f;  // px
 
 static_assert(kTile * kTile == kLanes, "a tile is one batch of lanes");
 
@@ -397,8 +397,9 @@ struct Renderer::Impl
         }
       }
     // Tiles padded by one pixel: anti-aliasing rays stay within +-0.5 px of their pixel.
-    makeTiles(cam_tiles, W, H, 1.0, [this](double u, double v) { return rig.camera.ray(Eigen::Vector2d(u, v)); },
-              Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
+    makeTiles(
+        cam_tiles, W, H, 1.0, [this](double u, double v) { return rig.camera.ray(Eigen::Vector2d(u, v)); },
+        Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
   }
 
   void buildProjector()
@@ -438,13 +439,15 @@ struct Renderer::Impl
     // Thin lens: the blur circle's diameter on the sensor, in px, is
     //   A f_px z_f / (z_f - f) |1/z - 1/z_f|, aperture A = f / N, focal length f = f_px * pitch;
     // a disc of diameter b has the second moment of a Gaussian of sigma b / 4.
-    auto defocusK = [](double f_px, double pitch, double n, double focus) {
+    auto defocusK = [](double f_px, double pitch, double n, double focus)
+    {
       const double f = f_px * pitch;
       return (f / n) * f_px * focus / std::max(focus - f, 1e-6) / 4.0;
     };
     const double pf = std::sqrt(P.fx * P.fy);
     const double cf = std::sqrt(rig.camera.fx * rig.camera.fy);
-    proj_defocus_k = s.defocus ? defocusK(pf, s.projector_pixel_size, s.projector_f_number, s.projector_focus_distance) : 0.0;
+    proj_defocus_k =
+        s.defocus ? defocusK(pf, s.projector_pixel_size, s.projector_f_number, s.projector_focus_distance) : 0.0;
     cam_defocus_k = s.defocus ? defocusK(cf, s.camera_pixel_size, s.camera_f_number, s.camera_focus_distance) : 0.0;
     kp.defocus_k = static_cast<float>(proj_defocus_k);
     kp.inv_focus = static_cast<float>(1.0 / s.projector_focus_distance);
@@ -457,9 +460,10 @@ struct Renderer::Impl
     kp.max_level = static_cast<float>(kPatternLevels - 1);
     ambient = static_cast<float>(s.ambient);
     black = static_cast<float>(s.projector_black_level);
-    makeTiles(proj_tiles, Wp, Hp, 0.5,
-              [this, R](double u, double v) { return Eigen::Vector3d(R * rig.projector.ray(Eigen::Vector2d(u, v))); },
-              t, R.col(2));
+    makeTiles(
+        proj_tiles, Wp, Hp, 0.5,
+        [this, R](double u, double v) { return Eigen::Vector3d(R * rig.projector.ray(Eigen::Vector2d(u, v))); }, t,
+        R.col(2));
   }
 
   template <typename RayFn>
@@ -509,7 +513,8 @@ struct Renderer::Impl
     for (int i = 0; i < kLutSize; ++i)
     {
       const double x = static_cast<double>(i) / (kLutSize - 1);
-      lut[static_cast<size_t>(i)] = static_cast<int32_t>(std::min(255.0, std::floor(255.0 * std::pow(x, 1.0 / s.gamma) + 0.5)));
+      lut[static_cast<size_t>(i)] =
+          static_cast<int32_t>(std::min(255.0, std::floor(255.0 * std::pow(x, 1.0 / s.gamma) + 0.5)));
     }
     // Tileable fractal value noise: octaves of smoothstep-interpolated lattice noise, periods 16, 8,
     // 4 texels (a `scale` is 16 texels).
@@ -518,7 +523,8 @@ struct Renderer::Impl
     for (int period = 16; period >= 4; period /= 2)
     {
       const int cells = kTextureSize / period;
-      auto lattice = [&](int i, int j) {
+      auto lattice = [&](int i, int j)
+      {
         const uint32_t h = hash32(static_cast<uint32_t>(((i % cells) * 7919 + (j % cells)) * 31 + period));
         return static_cast<float>(h >> 8) / 16777216.f;
       };
@@ -578,7 +584,8 @@ struct Renderer::Impl
       for (int y = 0; y < level_h; ++y)
         for (int x = 0; x < level_w; ++x)
         {
-          auto q = [&](int xx) {
+          auto q = [&](int xx)
+          {
             const float v = xx < level_w ? level.at<float>(y, xx) : 0.f;
             return static_cast<uint32_t>(std::min(std::max(v, 0.f), 1.f) * 65535.f + 0.5f);
           };
@@ -678,7 +685,8 @@ struct Renderer::Impl
       tl.coarse_near.assign(tl.coarse_lists.size(), 0.f);
     }
     // Sorted insertion by near depth.
-    auto insert = [](uint16_t* list, float* near, int& count, uint16_t k, float d) {
+    auto insert = [](uint16_t* list, float* near, int& count, uint16_t k, float d)
+    {
       int pos = count++;
       while (pos > 0 && near[pos - 1] > d)
       {
@@ -772,8 +780,8 @@ struct Renderer::Impl
         sim::noiseLanes(k, surf.contrast, texture.data(), b.obj, b.tu, b.tv, n, b.albedo);
     }
 
-    sim::projectLanes(kp, dx, dy, b.t, b.obj, b.nx, b.ny, b.nz, n, b.u, b.v, b.e, b.level, b.sx, b.sy, b.sz,
-                      b.lit, b.csig, b.pz);
+    sim::projectLanes(kp, dx, dy, b.t, b.obj, b.nx, b.ny, b.nz, n, b.u, b.v, b.e, b.level, b.sx, b.sy, b.sz, b.lit,
+                      b.csig, b.pz);
 
     // Shadow rays from the projector centre to the lit points, against the objects of the
     // projector tiles those points fall in.
@@ -818,8 +826,8 @@ struct Renderer::Impl
     {
       const RenderObject& o = objects[k];
       if (o.specular > 0.f)
-        sim::specularLanes(k, o.spec_norm, o.shininess, dx, dy, b.sx, b.sy, b.sz, b.nx, b.ny, b.nz, b.obj,
-                           b.direct, n, b.radiance);
+        sim::specularLanes(k, o.spec_norm, o.shininess, dx, dy, b.sx, b.sy, b.sz, b.nx, b.ny, b.nz, b.obj, b.direct, n,
+                           b.radiance);
     }
   }
 
@@ -837,15 +845,14 @@ struct Renderer::Impl
         const int npad = (n + 7) & ~7;
         const int tile = ty * cam_tiles.nx + tx;
         const Segment whole{ 0, npad, static_cast<size_t>(tile) };
-        trace(b, tile_dx.data() + static_cast<size_t>(tile) * kLanes, tile_dy.data() + static_cast<size_t>(tile) * kLanes,
-              npad, &whole, 1);
+        trace(b, tile_dx.data() + static_cast<size_t>(tile) * kLanes,
+              tile_dy.data() + static_cast<size_t>(tile) * kLanes, npad, &whole, 1);
         const size_t p0 = static_cast<size_t>(y0) * W + x0;
-        max_sigma = std::max(
-            max_sigma, sim::storeTile(th, tw, b.radiance, b.t, b.obj, b.part, b.lit, b.parity, b.u, b.v, b.csig,
-                                      radiance + p0, out.depth.ptr<float>(y0) + x0,
-                                      out.projector_coords.ptr<float>(y0) + 2 * x0, keys.data() + p0, W,
-                                      static_cast<int>(out.depth.step1()),
-                                      static_cast<int>(out.projector_coords.step1())));
+        max_sigma = std::max(max_sigma, sim::storeTile(th, tw, b.radiance, b.t, b.obj, b.part, b.lit, b.parity, b.u,
+                                                       b.v, b.csig, radiance + p0, out.depth.ptr<float>(y0) + x0,
+                                                       out.projector_coords.ptr<float>(y0) + 2 * x0, keys.data() + p0,
+                                                       W, static_cast<int>(out.depth.step1()),
+                                                       static_cast<int>(out.projector_coords.step1())));
       }
   }
 
@@ -864,7 +871,8 @@ struct Renderer::Impl
     const float weight = 1.f / static_cast<float>(extra + (aa_with_centre ? 1 : 0));
     int n = 0;
     segments.clear();
-    auto flush = [&]() {
+    auto flush = [&]()
+    {
       if (n == 0)
         return;
       const int npad = (n + 7) & ~7;
@@ -948,10 +956,7 @@ struct Renderer::Impl
     return n;
   }
 
-  float* level(int k)
-  {
-    return levels.data() + static_cast<size_t>(k) * W * H;
-  }
+  float* level(int k) { return levels.data() + static_cast<size_t>(k) * W * H; }
 
   // Camera blur levels: 1 and 2 at full resolution, 3 (2 px) at half, 4 (4 px) and the glare halo
   // at quarter resolution, their rows upsampled horizontally (the sensor interpolates vertically).
@@ -1012,7 +1017,8 @@ struct Renderer::Impl
       sim::KSensorRow r;
       const size_t yh = static_cast<size_t>(up_half.y0[static_cast<size_t>(v)]);
       const size_t yq = static_cast<size_t>(up_quarter.y0[static_cast<size_t>(v)]);
-      const size_t yh1 = std::min(yh + 1, static_cast<size_t>(hh - 1)), yq1 = std::min(yq + 1, static_cast<size_t>(qh - 1));
+      const size_t yh1 = std::min(yh + 1, static_cast<size_t>(hh - 1)),
+                   yq1 = std::min(yq + 1, static_cast<size_t>(qh - 1));
       const bool has3 = n_levels > 3, has4 = n_levels > 4;
       r.l3[0] = has3 ? rows_half.data() + yh * row_stride : fallback;
       r.l3[1] = has3 ? rows_half.data() + yh1 * row_stride : fallback;
@@ -1028,9 +1034,7 @@ struct Renderer::Impl
   }
 };
 
-Renderer::Renderer(const sl_projector::Rig& rig, const SimSettings& settings) : impl_(new Impl(rig, settings))
-{
-}
+Renderer::Renderer(const sl_projector::Rig& rig, const SimSettings& settings) : impl_(new Impl(rig, settings)) {}
 
 Renderer::~Renderer() = default;
 
@@ -1058,8 +1062,8 @@ double Renderer::projectorBlurSigma(double distance) const
   return std::sqrt(m.settings.projector_base_blur * m.settings.projector_base_blur + defocus * defocus);
 }
 
-void Renderer::render(const Scene& scene, const cv::Mat& pattern_mono8, const Eigen::Isometry3d& camera_optical_in_world,
-                      uint64_t seed, RenderOutput& out)
+void Renderer::render(const Scene& scene, const cv::Mat& pattern_mono8,
+                      const Eigen::Isometry3d& camera_optical_in_world, uint64_t seed, RenderOutput& out)
 {
   Impl& m = *impl_;
   m.updatePattern(pattern_mono8);

@@ -74,8 +74,8 @@ Eigen::AlignedBox3d SceneObject::worldBounds() const
   }
   else
   {
-    const Eigen::Vector3d half = type == ObjectType::Plane ? Eigen::Vector3d(size.x() / 2, size.y() / 2, 0.0) :
-                                                             Eigen::Vector3d(size / 2);
+    const Eigen::Vector3d half =
+        type == ObjectType::Plane ? Eigen::Vector3d(size.x() / 2, size.y() / 2, 0.0) : Eigen::Vector3d(size / 2);
     extent = R.cwiseAbs() * half;
   }
   return Eigen::AlignedBox3d(c - extent, c + extent);
@@ -83,7 +83,8 @@ Eigen::AlignedBox3d SceneObject::worldBounds() const
 
 void validateObject(const SceneObject& o)
 {
-  auto require = [](bool ok, const std::string& msg) {
+  auto require = [](bool ok, const std::string& msg)
+  {
     if (!ok)
       throw std::invalid_argument(msg);
   };
@@ -96,8 +97,9 @@ void validateObject(const SceneObject& o)
     case ObjectType::Plane:
       require(!std::isnan(o.size.x()) && !std::isnan(o.size.y()) && o.size.x() >= 0.0 && o.size.y() >= 0.0,
               "size: must have 2 positive numbers (or be left out for an infinite plane)");
-      require((o.size.x() > 0.0) == (o.size.y() > 0.0), "size: must have 2 positive numbers (or be left out for an "
-                                                        "infinite plane)");
+      require((o.size.x() > 0.0) == (o.size.y() > 0.0),
+              "size: must have 2 positive numbers (or be left out for an "
+              "infinite plane)");
       break;
     case ObjectType::Box:
       require(o.size.allFinite() && (o.size.array() > 0.0).all(), "size: must have 3 positive numbers");
@@ -110,8 +112,7 @@ void validateObject(const SceneObject& o)
   const Material& m = o.material;
   require(std::isfinite(m.albedo) && m.albedo >= 0.0 && m.albedo <= 1.0, "albedo: must be in 0..1");
   require(std::isfinite(m.specular) && m.specular >= 0.0 && m.specular <= 1.0, "specular: must be in 0..1");
-  require(std::isfinite(m.shininess) && m.shininess >= 1.0 && m.shininess <= 10000.0,
-          "shininess: must be in 1..10000");
+  require(std::isfinite(m.shininess) && m.shininess >= 1.0 && m.shininess <= 10000.0, "shininess: must be in 1..10000");
   const Texture& t = m.texture;
   switch (t.type)
   {
@@ -141,8 +142,8 @@ namespace
 // file and the entry.
 std::vector<double> numberList(const YAML::Node& node, const std::string& key, size_t n_min, size_t n_max)
 {
-  const std::string expected =
-      n_min == n_max ? std::to_string(n_min) + " numbers" : std::to_string(n_min) + " to " + std::to_string(n_max) + " numbers";
+  const std::string expected = n_min == n_max ? std::to_string(n_min) + " numbers"
+                                              : std::to_string(n_min) + " to " + std::to_string(n_max) + " numbers";
   if (!node.IsSequence())
     throw std::invalid_argument(key + ": must be a list of " + expected);
   if (node.size() < n_min || node.size() > n_max)
@@ -178,8 +179,8 @@ T scalarValue(const YAML::Node& node, const std::string& key)
   }
   catch (const YAML::Exception&)
   {
-    const char* what = std::is_same<T, bool>::value ? "a boolean (true/false)" :
-                                                      (std::is_same<T, int>::value ? "an integer" : "a number");
+    const char* what = std::is_same<T, bool>::value ? "a boolean (true/false)"
+                                                    : (std::is_same<T, int>::value ? "an integer" : "a number");
     throw std::invalid_argument(key + ": cannot read '" + node.Scalar() + "' as " + what);
   }
 }
@@ -243,7 +244,8 @@ Eigen::Matrix3d frameFromNormal(const Eigen::Vector3d& normal)
 Texture parseTexture(const YAML::Node& node)
 {
   Texture t;
-  auto typeFrom = [](const std::string& s) {
+  auto typeFrom = [](const std::string& s)
+  {
     if (s == "none")
       return TextureType::None;
     if (s == "checker")
@@ -301,8 +303,8 @@ SceneObject parseObject(const YAML::Node& node)
 
 void parseObjectBody(const YAML::Node& node, SceneObject& o)
 {
-  std::set<std::string> allowed = { "type", "name", "position", "rpy", "albedo", "texture", "specular", "shininess",
-                                    "floor" };
+  std::set<std::string> allowed = { "type",    "name",     "position",  "rpy",  "albedo",
+                                    "texture", "specular", "shininess", "floor" };
   if (o.type == ObjectType::Plane)
     allowed.insert({ "normal", "size" });
   else if (o.type == ObjectType::Box)
@@ -481,13 +483,14 @@ Scene loadScene(const std::string& path)
 std::vector<Eigen::Vector3d> checkerboardInnerCorners(const SceneObject& o)
 {
   if (o.type != ObjectType::Plane || o.material.texture.type != TextureType::Checkerboard)
-    throw std::invalid_argument("checkerboardInnerCorners: " + o.label() + " is not a plane with a checkerboard texture");
+    throw std::invalid_argument("checkerboardInnerCorners: " + o.label() +
+                                " is not a plane with a checkerboard texture");
   const Texture& t = o.material.texture;
   std::vector<Eigen::Vector3d> corners;
   for (int j = 1; j < t.rows; ++j)
     for (int i = 1; i < t.cols; ++i)
-      corners.push_back(o.pose * Eigen::Vector3d(-t.cols * t.square / 2 + i * t.square,
-                                                 -t.rows * t.square / 2 + j * t.square, 0.0));
+      corners.push_back(
+          o.pose * Eigen::Vector3d(-t.cols * t.square / 2 + i * t.square, -t.rows * t.square / 2 + j * t.square, 0.0));
   return corners;
 }
 

@@ -18,20 +18,30 @@ struct Field
   std::function<bool&(SimSettings&)> b;    // bool fields
 };
 
-#define SL_DOUBLE(field, unit, desc)                                                                                   \
-  Field { SimSettingInfo{ #field, SimSettingInfo::Kind::Double, unit, desc },                                         \
-          [](SimSettings& s) -> double& { return s.field; }, nullptr, nullptr }
-#define SL_INT(field, unit, desc)                                                                                      \
-  Field { SimSettingInfo{ #field, SimSettingInfo::Kind::Int, unit, desc }, nullptr,                                   \
-          [](SimSettings& s) -> int& { return s.field; }, nullptr }
-#define SL_BOOL(field, desc)                                                                                           \
-  Field { SimSettingInfo{ #field, SimSettingInfo::Kind::Bool, "", desc }, nullptr, nullptr,                           \
-          [](SimSettings& s) -> bool& { return s.field; } }
+#define SL_DOUBLE(field, unit, desc)                                        \
+  Field                                                                     \
+  {                                                                         \
+    SimSettingInfo{ #field, SimSettingInfo::Kind::Double, unit, desc },     \
+        [](SimSettings& s) -> double& { return s.field; }, nullptr, nullptr \
+  }
+#define SL_INT(field, unit, desc)                                             \
+  Field                                                                       \
+  {                                                                           \
+    SimSettingInfo{ #field, SimSettingInfo::Kind::Int, unit, desc }, nullptr, \
+        [](SimSettings& s) -> int& { return s.field; }, nullptr               \
+  }
+#define SL_BOOL(field, desc)                                                          \
+  Field                                                                               \
+  {                                                                                   \
+    SimSettingInfo{ #field, SimSettingInfo::Kind::Bool, "", desc }, nullptr, nullptr, \
+        [](SimSettings& s) -> bool& { return s.field; }                               \
+  }
 
 const std::vector<Field>& fields()
 {
   static const std::vector<Field> table = {
-    SL_DOUBLE(projector_power, "", "irradiance of a white projector pixel at the projector focus distance, normal incidence"),
+    SL_DOUBLE(projector_power, "",
+              "irradiance of a white projector pixel at the projector focus distance, normal incidence"),
     SL_DOUBLE(projector_black_level, "", "irradiance of a black projector pixel relative to a white one"),
     SL_DOUBLE(projector_vignetting, "", "projector irradiance at the frame corners relative to the centre"),
     SL_DOUBLE(ambient, "", "ambient irradiance, in units of projector_power"),
@@ -83,7 +93,8 @@ bool finitePositive(double v)
 
 const std::vector<SimSettingInfo>& simSettingsInfo()
 {
-  static const std::vector<SimSettingInfo> infos = [] {
+  static const std::vector<SimSettingInfo> infos = []
+  {
     std::vector<SimSettingInfo> v;
     for (const Field& f : fields())
       v.push_back(f.info);

@@ -69,7 +69,8 @@ Eigen::Vector3d projectorRayOnPlane(const SimFixture& s, const Eigen::Vector2d& 
 }
 
 // Depth (camera z) of the first of the planes (world point, normal) met by the ray of camera pixel px.
-double planeDepth(const SimFixture& s, const Eigen::Vector2d& px, const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& planes)
+double planeDepth(const SimFixture& s, const Eigen::Vector2d& px,
+                  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& planes)
 {
   const Eigen::Vector3d r = s.rig.camera.ray(px);
   double best = std::numeric_limits<double>::infinity();
@@ -95,8 +96,10 @@ bool blobCentroid(const cv::Mat& image, const cv::Mat& labels, const cv::Mat& st
   const int grow = 2;
   const int x0 = std::max(0, stats.at<int>(label, cv::CC_STAT_LEFT) - grow);
   const int y0 = std::max(0, stats.at<int>(label, cv::CC_STAT_TOP) - grow);
-  const int x1 = std::min(image.cols, stats.at<int>(label, cv::CC_STAT_LEFT) + stats.at<int>(label, cv::CC_STAT_WIDTH) + grow);
-  const int y1 = std::min(image.rows, stats.at<int>(label, cv::CC_STAT_TOP) + stats.at<int>(label, cv::CC_STAT_HEIGHT) + grow);
+  const int x1 =
+      std::min(image.cols, stats.at<int>(label, cv::CC_STAT_LEFT) + stats.at<int>(label, cv::CC_STAT_WIDTH) + grow);
+  const int y1 =
+      std::min(image.rows, stats.at<int>(label, cv::CC_STAT_TOP) + stats.at<int>(label, cv::CC_STAT_HEIGHT) + grow);
   const cv::Rect box(x0, y0, x1 - x0, y1 - y0);
   cv::Mat mine = labels(box) == label;
   cv::dilate(mine, mine, cv::Mat::ones(2 * grow + 1, 2 * grow + 1, CV_8U));
@@ -489,7 +492,8 @@ TEST(Renderer, DefocusGrowsAwayFromTheFocusDistance)
   EXPECT_GT(r.projectorBlurSigma(0.45), 0.5);
   EXPECT_NEAR(r.projectorBlurSigma(0.675), 0.3, 1e-9);
   // In the images: far from focus the blobs lose their edges, at focus defocus changes little.
-  auto sharpness = [&](const std::string& scene_name, bool defocus) {
+  auto sharpness = [&](const std::string& scene_name, bool defocus)
+  {
     SimSettings settings = noiseless();
     settings.defocus = defocus;
     const RenderOutput out = render(s, loadScene(kScenes + "/" + scene_name + ".yaml"), settings);

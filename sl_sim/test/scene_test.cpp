@@ -39,8 +39,8 @@ Ray ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d)
 
 TEST(SceneFile, EveryShippedSceneParses)
 {
-  std::vector<std::string> names = { "room", "three_planes", "cylinder_plane_650", "shiny_bin_586", "table_leg_20mm",
-                                     "table_leg_12mm", "checkerboard_600" };
+  std::vector<std::string> names = { "room",           "three_planes",   "cylinder_plane_650", "shiny_bin_586",
+                                     "table_leg_20mm", "table_leg_12mm", "checkerboard_600" };
   for (int d = 450; d <= 950; d += 50)
     names.push_back("plane_" + std::to_string(d));
   for (const std::string& n : names)
@@ -177,7 +177,8 @@ objects:
       "t.yaml: objects[0] (plane 'p'): colour: unknown key" },
     { "objects: [{type: cylinder, position: [0, 0, 0], radius: 0.1, size: [1, 1, 1]}]\n",
       "t.yaml: objects[0] (cylinder): size: unknown key" },
-    { "objects: [{type: cylinder, position: [0, 0, 0], height: 1}]\n", "t.yaml: objects[0] (cylinder): radius: missing" },
+    { "objects: [{type: cylinder, position: [0, 0, 0], height: 1}]\n",
+      "t.yaml: objects[0] (cylinder): radius: missing" },
     { "objects: [{type: cylinder, position: [0, 0, 0], radius: -1, height: 1}]\n",
       "t.yaml: objects[0] (cylinder): radius: must be a positive number" },
     { "objects: [{type: plane, position: [0, 0, 0], normal: [0, 0, 0]}]\n",
@@ -338,8 +339,9 @@ TEST(Intersection, BoxAtAnyOrientation)
   EXPECT_NEAR(h.t, 0.5, 1e-12);
   EXPECT_TRUE(h.normal.isApprox(Eigen::Vector3d(0, 0, 1)));
   // Tilted about two axes: check the hit lies on the surface (a local coordinate at +-half size).
-  box.pose.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()))
-                          .toRotationMatrix();
+  box.pose.linear() =
+      (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   for (double y = -0.6; y <= 0.6; y += 0.05)
   {
     if (!intersectObject(box, ray({ 0, y, 0.1 }, { 1, 0.05, 0 }), 0.0, 1e9, h))

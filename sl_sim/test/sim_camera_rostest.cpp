@@ -60,16 +60,18 @@ TEST(SimCamera, ImagesArriveWithCameraInfoFromTheRig)
   std::mutex mutex;
   std::vector<sensor_msgs::ImageConstPtr> images;
   std::vector<sensor_msgs::CameraInfoConstPtr> infos;
-  ros::Subscriber image_sub = nh.subscribe<sensor_msgs::Image>(
-      "/camera/image_raw", 10, [&](const sensor_msgs::ImageConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        images.push_back(m);
-      });
-  ros::Subscriber info_sub = nh.subscribe<sensor_msgs::CameraInfo>(
-      "/camera/camera_info", 10, [&](const sensor_msgs::CameraInfoConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        infos.push_back(m);
-      });
+  ros::Subscriber image_sub = nh.subscribe<sensor_msgs::Image>("/camera/image_raw", 10,
+                                                               [&](const sensor_msgs::ImageConstPtr& m)
+                                                               {
+                                                                 std::lock_guard<std::mutex> lock(mutex);
+                                                                 images.push_back(m);
+                                                               });
+  ros::Subscriber info_sub = nh.subscribe<sensor_msgs::CameraInfo>("/camera/camera_info", 10,
+                                                                   [&](const sensor_msgs::CameraInfoConstPtr& m)
+                                                                   {
+                                                                     std::lock_guard<std::mutex> lock(mutex);
+                                                                     infos.push_back(m);
+                                                                   });
   ros::AsyncSpinner spinner(2);
   spinner.start();
   // The first image comes once the projector's (latched) pattern has arrived; the rate itself is
@@ -144,15 +146,16 @@ TEST(SimCameraClock, OneImagePerPeriodOfTheSimulatedClock)
   ASSERT_TRUE(ros::param::get("/use_sim_time", sim_time) && sim_time) << "run by sim_camera_clock.test";
   std::mutex mutex;
   std::vector<ros::Time> stamps;
-  ros::Subscriber image_sub = nh.subscribe<sensor_msgs::Image>(
-      "/camera/image_raw", 10, [&](const sensor_msgs::ImageConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        stamps.push_back(m->header.stamp);
-      });
+  ros::Subscriber image_sub = nh.subscribe<sensor_msgs::Image>("/camera/image_raw", 10,
+                                                               [&](const sensor_msgs::ImageConstPtr& m)
+                                                               {
+                                                                 std::lock_guard<std::mutex> lock(mutex);
+                                                                 stamps.push_back(m->header.stamp);
+                                                               });
   ros::Publisher clock_pub = nh.advertise<rosgraph_msgs::Clock>("/clock", 1);
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  const double rate = 5.0;                       // sim_camera_clock.test
+  const double rate = 5.0;  // sim_camera_clock.test
   const ros::Duration period(1.0 / rate);
   const ros::Duration step(0, period.nsec / 4);  // 50 ms: exact in nanoseconds
   const ros::Time start(100, 0);
@@ -173,11 +176,13 @@ TEST(SimCameraClock, OneImagePerPeriodOfTheSimulatedClock)
     clock_pub.publish(clock);
     ros::WallDuration(0.05).sleep();
   }
-  const auto count = [&] {
+  const auto count = [&]
+  {
     std::lock_guard<std::mutex> lock(mutex);
     return std::count_if(stamps.begin(), stamps.end(), [&](const ros::Time& t) { return t > start; });
   };
-  const auto last = [&] {
+  const auto last = [&]
+  {
     std::lock_guard<std::mutex> lock(mutex);
     return stamps.empty() ? ros::Time() : stamps.back();
   };
@@ -271,10 +276,12 @@ TEST(SimCameraNode, InvalidParametersFailNamingThem)
   };
   const std::vector<Case> cases = {
     { "_scene_file:=" + scene, "~calibration_file: required" },
-    { "_calibration_file:=/no/such/rig.yaml _scene_file:=" + scene, "~calibration_file: /no/such/rig.yaml: cannot open" },
+    { "_calibration_file:=/no/such/rig.yaml _scene_file:=" + scene,
+      "~calibration_file: /no/such/rig.yaml: cannot open" },
     { "_rig_file:=/no/such/rig.yaml _scene_file:=" + scene, "~calibration_file: /no/such/rig.yaml: cannot open" },
     { "_calibration_file:=" + rig, "~scene_file: required" },
-    { "_calibration_file:=" + rig + " _scene_file:=/no/such/scene.yaml", "~scene_file: /no/such/scene.yaml: cannot open" },
+    { "_calibration_file:=" + rig + " _scene_file:=/no/such/scene.yaml",
+      "~scene_file: /no/such/scene.yaml: cannot open" },
     { "_rig_file:=" + rig + " _scene_file:=/no/such/scene.yaml", "~rig_file is deprecated: use ~calibration_file" },
     { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _antialias:=3", "~antialias: must be 1, 4 or 16" },
     { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _rate:=0.0", "~rate" },

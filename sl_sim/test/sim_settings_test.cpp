@@ -25,9 +25,8 @@ TEST(SimSettings, EveryFieldIsListedOnceAndReadableByName)
     EXPECT_NO_THROW(getSimSetting(d, info.name)) << info.name;
   }
   for (const char* n : { "ambient", "noise", "exposure", "gamma", "antialias", "defocus", "vignetting", "glare",
-                         "full_well", "read_noise", "projector_power", "projector_black_level",
-                         "projector_f_number", "camera_f_number", "projector_focus_distance",
-                         "camera_focus_distance" })
+                         "full_well", "read_noise", "projector_power", "projector_black_level", "projector_f_number",
+                         "camera_f_number", "projector_focus_distance", "camera_focus_distance" })
     EXPECT_EQ(names.count(n), 1u) << n;
   EXPECT_DOUBLE_EQ(getSimSetting(d, "ambient"), d.ambient);
   EXPECT_DOUBLE_EQ(getSimSetting(d, "noise"), 1.0);

@@ -53,8 +53,8 @@ public:
     bool active = false;    ///< a goal is running (after this update)
     bool finished = false;  ///< the goal ended in this update (reason is valid)
     StopReason reason = StopReason::REACHED;
-    double linear = 0.0;    ///< m/s to command
-    double angular = 0.0;   ///< rad/s to command
+    double linear = 0.0;   ///< m/s to command
+    double angular = 0.0;  ///< rad/s to command
   };
 
   /// @brief Creates an idle controller.

@@ -35,14 +35,14 @@ struct DriverConfig
   OiMode mode = OiMode::SAFE;  ///< SAFE, FULL, or PASSIVE (sensors only, no motion)
   DriveCommandType drive_type = DriveCommandType::DIRECT;
   VelocityLimits limits;
-  double cmd_vel_timeout = 0.5;   ///< s, watchdog: wheels stop when cmd_vel is older than this
-  double command_refresh = 0.2;   ///< s, an unchanged drive command is re-sent this often
-  double start_gap = 0.05;        ///< s between Start and the mode/stream commands
-  double start_retry = 1.0;       ///< s, the start sequence is repeated while no frame arrives
-  double mode_retry = 0.5;        ///< s, minimum interval between mode re-assertions
+  double cmd_vel_timeout = 0.5;  ///< s, watchdog: wheels stop when cmd_vel is older than this
+  double command_refresh = 0.2;  ///< s, an unchanged drive command is re-sent this often
+  double start_gap = 0.05;       ///< s between Start and the mode/stream commands
+  double start_retry = 1.0;      ///< s, the start sequence is repeated while no frame arrives
+  double mode_retry = 0.5;       ///< s, minimum interval between mode re-assertions
   DriveDistanceParams drive_distance;
-  bool use_wait_distance = false;      ///< Create 1 only: distance goals use Wait Distance [156]
-  bool cmd_vel_preempts_goal = true;   ///< a non-zero cmd_vel ends an active goal (else it is ignored)
+  bool use_wait_distance = false;     ///< Create 1 only: distance goals use Wait Distance [156]
+  bool cmd_vel_preempts_goal = true;  ///< a non-zero cmd_vel ends an active goal (else it is ignored)
   Odometry::Params odometry;
 };
 

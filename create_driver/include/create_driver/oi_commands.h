@@ -49,10 +49,10 @@ enum Opcode : uint8_t
   CONTROL = 130,  ///< legacy alias of SAFE
   SAFE = 131,
   FULL = 132,
-  POWER = 133,    ///< Create 2 only
+  POWER = 133,  ///< Create 2 only
   SPOT = 134,
-  COVER = 135,    ///< Create 1 (Create 2: CLEAN)
-  DEMO = 136,     ///< Create 1: one argument (Create 2: MAX, no argument)
+  COVER = 135,  ///< Create 1 (Create 2: CLEAN)
+  DEMO = 136,   ///< Create 1: one argument (Create 2: MAX, no argument)
   DRIVE = 137,
   LOW_SIDE_DRIVERS = 138,
   LEDS = 139,

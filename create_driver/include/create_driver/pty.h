@@ -53,8 +53,8 @@ public:
 private:
   int master_ = -1;
   int slave_keepalive_ = -1;
-  int inotify_ = -1;   ///< watches opens and closes of the slave
-  int clients_ = 0;    ///< open slave descriptors other than slave_keepalive_
+  int inotify_ = -1;  ///< watches opens and closes of the slave
+  int clients_ = 0;   ///< open slave descriptors other than slave_keepalive_
   std::string slave_path_;
   std::string link_path_;
   std::string link_target_;

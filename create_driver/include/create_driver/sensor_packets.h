@@ -40,9 +40,9 @@ constexpr uint8_t BUTTONS = 18;
 constexpr uint8_t DISTANCE = 19;  ///< mm since last read, signed
 constexpr uint8_t ANGLE = 20;     ///< degrees since last read, signed, counter-clockwise positive
 constexpr uint8_t CHARGING_STATE = 21;
-constexpr uint8_t VOLTAGE = 22;      ///< mV
-constexpr uint8_t CURRENT = 23;      ///< mA, signed (negative: discharging)
-constexpr uint8_t TEMPERATURE = 24;  ///< degrees C, signed
+constexpr uint8_t VOLTAGE = 22;           ///< mV
+constexpr uint8_t CURRENT = 23;           ///< mA, signed (negative: discharging)
+constexpr uint8_t TEMPERATURE = 24;       ///< degrees C, signed
 constexpr uint8_t BATTERY_CHARGE = 25;    ///< mAh
 constexpr uint8_t BATTERY_CAPACITY = 26;  ///< mAh
 constexpr uint8_t WALL_SIGNAL = 27;
@@ -105,11 +105,11 @@ constexpr uint8_t CREATE2_DOCK = 0x04;
 /// Description of one single (non-group) sensor packet.
 struct PacketInfo
 {
-  uint8_t id;        ///< packet id
-  uint8_t size;      ///< data bytes
-  bool is_signed;    ///< two's complement (2-byte and 1-byte signed packets)
-  bool create2_only; ///< present on the Create 2 only
-  const char* name;  ///< short name
+  uint8_t id;         ///< packet id
+  uint8_t size;       ///< data bytes
+  bool is_signed;     ///< two's complement (2-byte and 1-byte signed packets)
+  bool create2_only;  ///< present on the Create 2 only
+  const char* name;   ///< short name
 };
 
 /// @brief Table entry of a single packet (7..58), or nullptr for groups and unknown ids.

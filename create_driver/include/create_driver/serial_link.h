@@ -30,9 +30,9 @@ struct SerialLinkParams
 {
   std::string port = "/dev/ttyUSB0";  ///< device path (or a symlink to one)
   unsigned baud = 57600;
-  double tick_period = 0.01;          ///< s, period of the supervision / control tick
-  LinkParams link;                    ///< backoff and timeouts
-  size_t max_pending_write = 4096;    ///< bytes queued for writing before the link is declared stalled
+  double tick_period = 0.01;        ///< s, period of the supervision / control tick
+  LinkParams link;                  ///< backoff and timeouts
+  size_t max_pending_write = 4096;  ///< bytes queued for writing before the link is declared stalled
 
   /// @brief Checks every field.
   /// @throws std::invalid_argument whose message starts with the driver's ROS parameter of the
@@ -52,9 +52,9 @@ struct SerialLinkStats
   uint64_t bytes_read = 0;
   uint64_t bytes_written = 0;
   uint64_t ticks = 0;
-  uint64_t overruns = 0;         ///< ticks that ran more than one period late
-  double max_lateness = 0.0;     ///< s, worst tick lateness seen
-  double backoff = 0.0;          ///< s, delay applied after the next failure
+  uint64_t overruns = 0;      ///< ticks that ran more than one period late
+  double max_lateness = 0.0;  ///< s, worst tick lateness seen
+  double backoff = 0.0;       ///< s, delay applied after the next failure
 };
 
 /// @brief Serial port owner running on its own thread.

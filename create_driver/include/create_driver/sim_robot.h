@@ -168,7 +168,7 @@ private:
   Bytes frame_;
   Bytes pending_garbage_;
   Bytes script_;
-  size_t script_queued_ = 0;      // bytes at the front of input_ that a Play Script put there
+  size_t script_queued_ = 0;       // bytes at the front of input_ that a Play Script put there
   bool executing_script_ = false;  // the command being executed came from a script
   unsigned baud_;                  // as last set by Baud (the pty ignores it; it sizes the stream slot)
   std::vector<uint8_t> stream_ids_;

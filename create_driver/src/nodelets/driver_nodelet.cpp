@@ -146,18 +146,22 @@ private:
     updater_->add("Control loop", this, &DriverNodelet::diagControl);
     updater_->add("Safety", this, &DriverNodelet::diagSafety);
     updater_->add("Battery", this, &DriverNodelet::diagBattery);
-    diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) {
-      updater_->update();
-      publishMode();
-    });
+    diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5),
+                                     [this](const ros::WallTimerEvent&)
+                                     {
+                                       updater_->update();
+                                       publishMode();
+                                     });
 
     SerialLink::Handlers h;
-    h.on_open = [this](double now, Bytes& out) {
+    h.on_open = [this](double now, Bytes& out)
+    {
       std::lock_guard<std::mutex> lock(mutex_);
       pending_out_.clear();
       core_->onConnected(now, out);
     };
-    h.on_data = [this](const uint8_t* data, size_t len, double now, Bytes& out) {
+    h.on_data = [this](const uint8_t* data, size_t len, double now, Bytes& out)
+    {
       size_t n = 0;
       Snapshot snap;
       {
@@ -172,7 +176,8 @@ private:
       processOutcomes();
       return n;
     };
-    h.on_tick = [this](double now, Bytes& out) {
+    h.on_tick = [this](double now, Bytes& out)
+    {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         core_->control(now, out);
@@ -269,9 +274,8 @@ private:
 
   void cmdVel(const geometry_msgs::Twist::ConstPtr& msg)
   {
-    const bool finite = std::isfinite(msg->linear.x) && std::isfinite(msg->linear.y) &&
-                        std::isfinite(msg->linear.z) && std::isfinite(msg->angular.x) &&
-                        std::isfinite(msg->angular.y) && std::isfinite(msg->angular.z);
+    const bool finite = std::isfinite(msg->linear.x) && std::isfinite(msg->linear.y) && std::isfinite(msg->linear.z) &&
+                        std::isfinite(msg->angular.x) && std::isfinite(msg->angular.y) && std::isfinite(msg->angular.z);
     std::string error;
     bool ok = false;
     {
@@ -424,10 +428,10 @@ private:
     odom.twist.twist.angular.z = s.w;
     // Planar robot: x, y, yaw uncertain in proportion to travel; z, roll, pitch unused.
     const double big = 1e6;
-    odom.pose.covariance = { 1e-3, 0, 0, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 0, 0, big, 0, 0, 0,
-                             0,    0, 0, big, 0, 0, 0, 0, 0, 0, big, 0, 0, 0, 0, 0, 0, 3e-3 };
-    odom.twist.covariance = { 1e-4, 0, 0, 0, 0, 0, 0, 1e-4, 0, 0, 0, 0, 0, 0, big, 0, 0, 0,
-                              0,    0, 0, big, 0, 0, 0, 0, 0, 0, big, 0, 0, 0, 0, 0, 0, 1e-3 };
+    odom.pose.covariance = { 1e-3, 0, 0, 0,   0, 0, 0, 1e-3, 0, 0, 0,   0, 0, 0, big, 0, 0, 0,
+                             0,    0, 0, big, 0, 0, 0, 0,    0, 0, big, 0, 0, 0, 0,   0, 0, 3e-3 };
+    odom.twist.covariance = { 1e-4, 0, 0, 0,   0, 0, 0, 1e-4, 0, 0, 0,   0, 0, 0, big, 0, 0, 0,
+                              0,    0, 0, big, 0, 0, 0, 0,    0, 0, big, 0, 0, 0, 0,   0, 0, 1e-3 };
     odom_pub_.publish(odom);
     if (tf_)
     {
@@ -454,15 +458,13 @@ private:
     hz.cliff_right = s.sensors.cliffRight();
     hz.latched = s.latched;
     hz.latch_reason = static_cast<uint8_t>(s.latch_reason);
-    const bool changed = hz.bump_left != last_hazards_.bump_left || hz.bump_right != last_hazards_.bump_right ||
-                         hz.wheel_drop_left != last_hazards_.wheel_drop_left ||
-                         hz.wheel_drop_right != last_hazards_.wheel_drop_right ||
-                         hz.wheel_drop_caster != last_hazards_.wheel_drop_caster ||
-                         hz.cliff_left != last_hazards_.cliff_left ||
-                         hz.cliff_front_left != last_hazards_.cliff_front_left ||
-                         hz.cliff_front_right != last_hazards_.cliff_front_right ||
-                         hz.cliff_right != last_hazards_.cliff_right || hz.latched != last_hazards_.latched ||
-                         hz.latch_reason != last_hazards_.latch_reason;
+    const bool changed =
+        hz.bump_left != last_hazards_.bump_left || hz.bump_right != last_hazards_.bump_right ||
+        hz.wheel_drop_left != last_hazards_.wheel_drop_left || hz.wheel_drop_right != last_hazards_.wheel_drop_right ||
+        hz.wheel_drop_caster != last_hazards_.wheel_drop_caster || hz.cliff_left != last_hazards_.cliff_left ||
+        hz.cliff_front_left != last_hazards_.cliff_front_left ||
+        hz.cliff_front_right != last_hazards_.cliff_front_right || hz.cliff_right != last_hazards_.cliff_right ||
+        hz.latched != last_hazards_.latched || hz.latch_reason != last_hazards_.latch_reason;
     if (changed || now - last_hazards_time_ >= 0.1)
     {
       hazards_pub_.publish(hz);
@@ -526,9 +528,9 @@ private:
         b.power_supply_status = sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_UNKNOWN;
         break;
     }
-    b.power_supply_health = s.get(packet::CHARGING_STATE) == 5 ?
-                                sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNSPEC_FAILURE :
-                                sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNKNOWN;
+    b.power_supply_health = s.get(packet::CHARGING_STATE) == 5
+                                ? sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNSPEC_FAILURE
+                                : sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNKNOWN;
     b.power_supply_technology = sensor_msgs::BatteryState::POWER_SUPPLY_TECHNOLOGY_NIMH;
     b.present = true;
     return b;

@@ -106,23 +106,30 @@ private:
 
     pose_pub_ = nh.advertise<geometry_msgs::PoseStamped>("true_pose", 10);
     status_pub_ = pnh.advertise<SimStatus>("status", 10);
-    contact_sub_ = nh.subscribe<std_msgs::UInt8>("contact", 10, [this](const std_msgs::UInt8::ConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      robot_->setContact(m->data);
-    });
-    cliff_sub_ = nh.subscribe<std_msgs::UInt8>("cliff", 10, [this](const std_msgs::UInt8::ConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      robot_->setCliffs(m->data);
-    });
-    drop_sub_ = nh.subscribe<std_msgs::UInt8>("wheel_drop", 10, [this](const std_msgs::UInt8::ConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      robot_->setWheelDrops(m->data);
-    });
-    inject_sub_ = pnh.subscribe<std_msgs::UInt8MultiArray>(
-        "inject_bytes", 10, [this](const std_msgs::UInt8MultiArray::ConstPtr& m) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          robot_->injectNow(Bytes(m->data.begin(), m->data.end()));
-        });
+    contact_sub_ = nh.subscribe<std_msgs::UInt8>("contact", 10,
+                                                 [this](const std_msgs::UInt8::ConstPtr& m)
+                                                 {
+                                                   std::lock_guard<std::mutex> lock(mutex_);
+                                                   robot_->setContact(m->data);
+                                                 });
+    cliff_sub_ = nh.subscribe<std_msgs::UInt8>("cliff", 10,
+                                               [this](const std_msgs::UInt8::ConstPtr& m)
+                                               {
+                                                 std::lock_guard<std::mutex> lock(mutex_);
+                                                 robot_->setCliffs(m->data);
+                                               });
+    drop_sub_ = nh.subscribe<std_msgs::UInt8>("wheel_drop", 10,
+                                              [this](const std_msgs::UInt8::ConstPtr& m)
+                                              {
+                                                std::lock_guard<std::mutex> lock(mutex_);
+                                                robot_->setWheelDrops(m->data);
+                                              });
+    inject_sub_ = pnh.subscribe<std_msgs::UInt8MultiArray>("inject_bytes", 10,
+                                                           [this](const std_msgs::UInt8MultiArray::ConstPtr& m)
+                                                           {
+                                                             std::lock_guard<std::mutex> lock(mutex_);
+                                                             robot_->injectNow(Bytes(m->data.begin(), m->data.end()));
+                                                           });
     reopen_srv_ = pnh.advertiseService("reopen", &SimNodelet::reopen, this);
     garbage_srv_ = pnh.advertiseService("inject_garbage", &SimNodelet::injectGarbage, this);
     power_srv_ = pnh.advertiseService("power_cycle", &SimNodelet::powerCycle, this);

@@ -72,31 +72,34 @@ int main(int argc, char** argv)
   params.port = port;
   params.baud = baud ? baud : defaultBaud(model);
   SerialLink::Handlers h;
-  h.on_open = [&](double, Bytes& out) {
+  h.on_open = [&](double, Bytes& out)
+  {
     parser.clearBuffer();
     appendStart(out);
     appendStream(out, ids);
   };
-  h.on_data = [&](const uint8_t* data, size_t len, double now, Bytes&) {
+  h.on_data = [&](const uint8_t* data, size_t len, double now, Bytes&)
+  {
     const size_t n = parser.feed(data, len);
     if (n > 0 && now - last_print >= 0.2)
     {
       last_print = now;
       const SensorState& s = parser.state();
-      std::printf("mode %-7s bump L%d R%d  drop L%d R%d C%d  cliff %d%d%d%d  dist %4d mm  angle %4d deg  "
-                  "%5.2f V %6.3f A  %d/%d mAh  frames ok %llu bad %llu\n",
-                  s.oiMode() >= 0 && s.oiMode() <= 3 ? oiModeName(static_cast<OiMode>(s.oiMode())) : "?",
-                  s.bumpLeft(), s.bumpRight(), s.wheelDropLeft(), s.wheelDropRight(), s.wheelDropCaster(),
-                  s.cliffLeft(), s.cliffFrontLeft(), s.cliffFrontRight(), s.cliffRight(), s.distanceMm(),
-                  s.angleDeg(), s.get(packet::VOLTAGE) / 1000.0, s.get(packet::CURRENT) / 1000.0,
-                  s.get(packet::BATTERY_CHARGE), s.get(packet::BATTERY_CAPACITY),
-                  static_cast<unsigned long long>(parser.counters().valid_frames),
-                  static_cast<unsigned long long>(parser.counters().corrupt_frames));
+      std::printf(
+          "mode %-7s bump L%d R%d  drop L%d R%d C%d  cliff %d%d%d%d  dist %4d mm  angle %4d deg  "
+          "%5.2f V %6.3f A  %d/%d mAh  frames ok %llu bad %llu\n",
+          s.oiMode() >= 0 && s.oiMode() <= 3 ? oiModeName(static_cast<OiMode>(s.oiMode())) : "?", s.bumpLeft(),
+          s.bumpRight(), s.wheelDropLeft(), s.wheelDropRight(), s.wheelDropCaster(), s.cliffLeft(), s.cliffFrontLeft(),
+          s.cliffFrontRight(), s.cliffRight(), s.distanceMm(), s.angleDeg(), s.get(packet::VOLTAGE) / 1000.0,
+          s.get(packet::CURRENT) / 1000.0, s.get(packet::BATTERY_CHARGE), s.get(packet::BATTERY_CAPACITY),
+          static_cast<unsigned long long>(parser.counters().valid_frames),
+          static_cast<unsigned long long>(parser.counters().corrupt_frames));
       std::fflush(stdout);
     }
     return n;
   };
-  h.on_state = [&](LinkState state, const std::string& reason) {
+  h.on_state = [&](LinkState state, const std::string& reason)
+  {
     std::printf("link %s%s%s\n", linkStateName(state), reason.empty() ? "" : ": ", reason.c_str());
     std::fflush(stdout);
   };
@@ -113,8 +116,7 @@ int main(int argc, char** argv)
   appendPauseResumeStream(bye, false);
   link.stop(bye, 0.5);
   const SerialLinkStats st = link.stats();
-  std::printf("connects %llu, valid frames %llu, corrupt frames %llu\n",
-              static_cast<unsigned long long>(st.connects),
+  std::printf("connects %llu, valid frames %llu, corrupt frames %llu\n", static_cast<unsigned long long>(st.connects),
               static_cast<unsigned long long>(parser.counters().valid_frames),
               static_cast<unsigned long long>(parser.counters().corrupt_frames));
   return parser.counters().valid_frames > 0 ? 0 : 1;

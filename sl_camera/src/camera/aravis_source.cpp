@@ -198,7 +198,8 @@ void AravisSource::open()
         g_signal_connect(device, "control-lost", G_CALLBACK(onControlLost), impl_->control_lost.get());
 
   const SourceSettings& s = settings_;
-  auto note = [this](const std::string& what, GError*& e) {
+  auto note = [this](const std::string& what, GError*& e)
+  {
     const std::string m = takeError(e);
     if (!m.empty())
       warn(description() + ": " + what + ": " + m);
@@ -261,8 +262,8 @@ void AravisSource::open()
     if (offsets && (x != want_x || y != want_y))
     {
       std::ostringstream msg;
-      msg << description() << ": asked for the region at offset " << want_x << ", " << want_y
-          << " px, the camera uses " << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
+      msg << description() << ": asked for the region at offset " << want_x << ", " << want_y << " px, the camera uses "
+          << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
       warn(msg.str());
     }
   }
@@ -383,8 +384,8 @@ void AravisSource::open()
     const bool loopback = local_mtu > 0 || isLoopback(arv_gv_device_get_interface_address(gv_device)) ||
                           isLoopback(arv_gv_device_get_device_address(gv_device));
     const bool packet_socket = options_.packet_socket == PacketSocketMode::Auto && !loopback;
-    arv_camera_gv_set_stream_options(camera, packet_socket ? ARV_GV_STREAM_OPTION_NONE :
-                                                             ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
+    arv_camera_gv_set_stream_options(
+        camera, packet_socket ? ARV_GV_STREAM_OPTION_NONE : ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
     if (options_.packet_size > 0)
     {
       arv_camera_gv_set_packet_size(camera, options_.packet_size, &error);
@@ -482,10 +483,7 @@ GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
   {
     ArvStream* stream;
     ArvBuffer* buffer;
-    ~Requeue()
-    {
-      arv_stream_push_buffer(stream, buffer);
-    }
+    ~Requeue() { arv_stream_push_buffer(stream, buffer); }
   } requeue{ impl_->stream, buffer };
 
   const ArvBufferStatus status = arv_buffer_get_status(buffer);
@@ -560,8 +558,8 @@ GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
 
   const guint64 system_ns = arv_buffer_get_system_timestamp(buffer);
   frame.stamp = system_ns > 0 ? CaptureClock::time_point(std::chrono::duration_cast<CaptureClock::duration>(
-                                    std::chrono::nanoseconds(system_ns))) :
-                                CaptureClock::now();
+                                    std::chrono::nanoseconds(system_ns)))
+                              : CaptureClock::now();
   frame.sequence = arv_buffer_get_frame_id(buffer);
   frame.has_sequence = true;
   return GrabStatus::Frame;
@@ -586,26 +584,28 @@ void AravisSource::close()
   // command, and joins its heartbeat thread): do them on a helper thread and wait only briefly.
   const bool dead = lost->load();
   auto state = std::make_shared<TeardownState>();
-  std::thread worker([camera, stream, handler, lost, dead, state] {
-    GError* error = nullptr;
-    if (camera && stream && !dead)
-    {
-      arv_camera_stop_acquisition(camera, &error);
-      takeError(error);  // a camera that went away cannot be stopped; nothing else to do
-    }
-    if (stream)
-      g_object_unref(stream);  // stops the stream thread, frees the buffers
-    if (camera)
-    {
-      ArvDevice* device = arv_camera_get_device(camera);
-      if (device && handler)
-        g_signal_handler_disconnect(device, handler);
-      g_object_unref(camera);  // leaves control, joins the heartbeat thread (the last user of *lost)
-    }
-    std::lock_guard<std::mutex> lock(state->mutex);
-    state->done = true;
-    state->done_cv.notify_all();
-  });
+  std::thread worker(
+      [camera, stream, handler, lost, dead, state]
+      {
+        GError* error = nullptr;
+        if (camera && stream && !dead)
+        {
+          arv_camera_stop_acquisition(camera, &error);
+          takeError(error);  // a camera that went away cannot be stopped; nothing else to do
+        }
+        if (stream)
+          g_object_unref(stream);  // stops the stream thread, frees the buffers
+        if (camera)
+        {
+          ArvDevice* device = arv_camera_get_device(camera);
+          if (device && handler)
+            g_signal_handler_disconnect(device, handler);
+          g_object_unref(camera);  // leaves control, joins the heartbeat thread (the last user of *lost)
+        }
+        std::lock_guard<std::mutex> lock(state->mutex);
+        state->done = true;
+        state->done_cv.notify_all();
+      });
   bool done = false;
   {
     std::unique_lock<std::mutex> lock(state->mutex);

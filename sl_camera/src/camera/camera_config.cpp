@@ -106,7 +106,8 @@ void CameraConfig::validate() const
           "reconnect_max_backoff must be in (0, 3600] s, got " + str(reconnect_max_backoff));
   require(stall_timeout > 0.0 && std::isfinite(stall_timeout) && stall_timeout <= 3600.0,
           "stall_timeout must be in (0, 3600] s, got " + str(stall_timeout));
-  require(aravis.socket_buffer == 0 || (aravis.socket_buffer >= kMinSocketBuffer && aravis.socket_buffer <= kMaxSocketBuffer),
+  require(aravis.socket_buffer == 0 ||
+              (aravis.socket_buffer >= kMinSocketBuffer && aravis.socket_buffer <= kMaxSocketBuffer),
           "socket_buffer must be auto (0) or " + str(kMinSocketBuffer) + ".." + str(kMaxSocketBuffer) + " bytes, got " +
               str(aravis.socket_buffer));
   require(aravis.packet_size == 0 || (aravis.packet_size >= kMinPacketSize && aravis.packet_size <= kMaxPacketSize),
@@ -126,9 +127,8 @@ void CameraConfig::applyRigSize(int rig_width, int rig_height, const std::string
     return;
   }
   if (s.width != rig_width || s.height != rig_height)
-    throw std::invalid_argument("width x height is " + str(s.width) + " x " + str(s.height) +
-                                " px but the rig file " + rig_file + " is calibrated for " + str(rig_width) + " x " +
-                                str(rig_height) +
+    throw std::invalid_argument("width x height is " + str(s.width) + " x " + str(s.height) + " px but the rig file " +
+                                rig_file + " is calibrated for " + str(rig_width) + " x " + str(rig_height) +
                                 " px; set the camera to the rig's size (0 x 0 takes it) or use a rig calibrated at "
                                 "this size");
 }

@@ -29,7 +29,8 @@ const char* captureStateName(CaptureState state)
 
 void CaptureOptions::validate() const
 {
-  auto positive = [](double v, const char* name) {
+  auto positive = [](double v, const char* name)
+  {
     if (!(v > 0.0) || !std::isfinite(v))
       throw std::invalid_argument(std::string(name) + " must be a finite time > 0 s, got " + std::to_string(v));
   };
@@ -46,13 +47,13 @@ void CaptureOptions::validate() const
     throw std::invalid_argument("gap_tolerance must be a finite number >= 1, got " + std::to_string(gap_tolerance));
 }
 
-CaptureThread::CaptureThread(std::unique_ptr<FrameSource> source, const CaptureOptions& options,
-                             FrameCallback on_frame, EventCallback on_event)
-  : source_(std::move(source))
-  , description_(source_ ? source_->description() : std::string())
-  , options_(options)
-  , on_frame_(std::move(on_frame))
-  , on_event_(std::move(on_event))
+CaptureThread::CaptureThread(std::unique_ptr<FrameSource> source, const CaptureOptions& options, FrameCallback on_frame,
+                             EventCallback on_event)
+  : source_(std::move(source)),
+    description_(source_ ? source_->description() : std::string()),
+    options_(options),
+    on_frame_(std::move(on_frame)),
+    on_event_(std::move(on_event))
 {
   if (!source_)
     throw std::invalid_argument("CaptureThread needs a frame source");
@@ -200,11 +201,13 @@ void CaptureThread::run()
   double backoff = options_.initial_backoff;
   bool streamed = false;  // has the source delivered frames before (so that a new open is a reconnect)?
 
-  auto stopping = [this] {
+  auto stopping = [this]
+  {
     std::lock_guard<std::mutex> lock(mutex_);
     return stop_requested_;
   };
-  auto closeSource = [this] {
+  auto closeSource = [this]
+  {
     try
     {
       source_->close();

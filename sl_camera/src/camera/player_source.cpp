@@ -23,14 +23,8 @@ namespace
 {
 struct SteadyPacingClock : PlayerSource::PacingClock
 {
-  std::chrono::steady_clock::time_point now() override
-  {
-    return std::chrono::steady_clock::now();
-  }
-  void sleepUntil(std::chrono::steady_clock::time_point t) override
-  {
-    std::this_thread::sleep_until(t);
-  }
+  std::chrono::steady_clock::time_point now() override { return std::chrono::steady_clock::now(); }
+  void sleepUntil(std::chrono::steady_clock::time_point t) override { std::this_thread::sleep_until(t); }
 };
 
 std::string lowerExtension(const std::string& path)
@@ -49,11 +43,11 @@ bool PlayerSource::isImageFile(const std::string& path)
 }
 
 PlayerSource::PlayerSource(const std::string& path, double rate, bool loop)
-  : path_(path)
-  , rate_(rate)
-  , loop_(loop)
-  , clock_(std::make_shared<SteadyPacingClock>())
-  , unreadable_(std::make_shared<UnreadableFiles>())
+  : path_(path),
+    rate_(rate),
+    loop_(loop),
+    clock_(std::make_shared<SteadyPacingClock>()),
+    unreadable_(std::make_shared<UnreadableFiles>())
 {
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw std::invalid_argument("player rate must be a finite rate > 0 Hz, got " + std::to_string(rate));
@@ -75,8 +69,8 @@ void PlayerSource::open()
   std::error_code ec;
   const fs::file_status status = fs::status(path_, ec);
   if (path_.empty() || !fs::exists(status))
-    throw CameraError(CameraError::Kind::NotFound, "player: " + (path_.empty() ? std::string("(empty path)") : path_) +
-                                                       " does not exist");
+    throw CameraError(CameraError::Kind::NotFound,
+                      "player: " + (path_.empty() ? std::string("(empty path)") : path_) + " does not exist");
   if (fs::is_directory(status))
   {
     std::vector<std::string> files;
@@ -89,8 +83,8 @@ void PlayerSource::open()
     if (ec)
       throw CameraError(CameraError::Kind::Open, "player: cannot list folder " + path_ + ": " + ec.message());
     if (files.empty())
-      throw CameraError(CameraError::Kind::Open, "player: no images (png, jpg, jpeg, pgm, ppm, pnm, bmp, tif, tiff) in folder " +
-                                                     path_);
+      throw CameraError(CameraError::Kind::Open,
+                        "player: no images (png, jpg, jpeg, pgm, ppm, pnm, bmp, tif, tiff) in folder " + path_);
     std::sort(files.begin(), files.end());
     files_.swap(files);
   }

@@ -80,8 +80,8 @@ void V4l2Source::open()
   {
     const int err = errno;
     if (err == EACCES || err == EPERM)
-      throw CameraError(CameraError::Kind::Open, "no permission to open " + path_ +
-                                                     " (add the user to group video and log in again)");
+      throw CameraError(CameraError::Kind::Open,
+                        "no permission to open " + path_ + " (add the user to group video and log in again)");
     throw CameraError(CameraError::Kind::Open, description() + ": " + std::strerror(err));
   }
 
@@ -183,8 +183,8 @@ GrabStatus V4l2Source::grab(Frame& frame, std::chrono::milliseconds /*timeout*/)
     if (!nodeExists(path_))
       throw CameraError(CameraError::Kind::Lost, description() + " disappeared (unplugged?)");
     if (++failures_in_row_ >= kMaxFailuresInRow)
-      throw CameraError(CameraError::Kind::Lost, description() + ": " + std::to_string(failures_in_row_) +
-                                                     " reads in a row failed" + detail);
+      throw CameraError(CameraError::Kind::Lost,
+                        description() + ": " + std::to_string(failures_in_row_) + " reads in a row failed" + detail);
     throw CameraError(CameraError::Kind::Frame, description() + ": read failed" + detail);
   }
   failures_in_row_ = 0;

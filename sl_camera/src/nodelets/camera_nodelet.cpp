@@ -151,9 +151,9 @@ Params readParams(const ros::NodeHandle& pnh)
     throw std::invalid_argument(std::string("~") + e.what());
   }
   p.offsets_ignored = c.backend != CameraBackend::Aravis && (c.settings.offset_x >= 0 || c.settings.offset_y >= 0);
-  p.player_ignores_settings = c.backend == CameraBackend::Player &&
-                              (c.settings.width != 0 || c.settings.height != 0 || c.settings.exposure > 0.0 ||
-                               c.settings.gain >= 0.0);
+  p.player_ignores_settings =
+      c.backend == CameraBackend::Player &&
+      (c.settings.width != 0 || c.settings.height != 0 || c.settings.exposure > 0.0 || c.settings.gain >= 0.0);
 
   p.frame_id = sl_params::read(pnh, "frame_id", p.frame_id);
   if (p.frame_id.empty())
@@ -163,7 +163,8 @@ Params readParams(const ros::NodeHandle& pnh)
     throw std::invalid_argument("~camera_name must not be empty");
   for (char ch : p.camera_name)
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
-      throw std::invalid_argument("~camera_name must contain only letters, digits and '_', got '" + p.camera_name + "'");
+      throw std::invalid_argument("~camera_name must contain only letters, digits and '_', got '" + p.camera_name +
+                                  "'");
   p.camera_info_url = sl_params::read(pnh, "camera_info_url", p.camera_info_url);
   const std::string& url = p.camera_info_url;
   if (!url.empty() && url.rfind("file://", 0) != 0 && url.rfind("package://", 0) != 0)
@@ -225,7 +226,8 @@ private:
     const CameraConfig& config = params_.camera;
     device_ = config.resolvedDevice();
     if (params_.player_ignores_settings)
-      NODELET_WARN("~width, ~height, ~exposure and ~gain have no effect with backend player (leave them at 0, 0, 0, -1)");
+      NODELET_WARN(
+          "~width, ~height, ~exposure and ~gain have no effect with backend player (leave them at 0, 0, 0, -1)");
     if (params_.offsets_ignored)
       NODELET_WARN("~offset_x and ~offset_y have an effect with backend aravis only (leave them at -1)");
     if (!params_.rig_file.empty())
@@ -240,13 +242,14 @@ private:
       camera_info_->loadCameraInfo(params_.camera_info_url);
     if (!camera_info_->isCalibrated())
     {
-      const std::string why = params_.camera_info_url.empty() ?
-                                  "~camera_info_url is empty and there is no ~/.ros/camera_info/" +
-                                      params_.camera_name + ".yaml" :
-                                  "~camera_info_url '" + params_.camera_info_url + "' could not be loaded";
-      NODELET_WARN("camera '%s' is not calibrated (%s): publishing camera_info with the image size only; calibrate "
-                   "with camera_calibration, which stores the result through set_camera_info",
-                   params_.camera_name.c_str(), why.c_str());
+      const std::string why =
+          params_.camera_info_url.empty()
+              ? "~camera_info_url is empty and there is no ~/.ros/camera_info/" + params_.camera_name + ".yaml"
+              : "~camera_info_url '" + params_.camera_info_url + "' could not be loaded";
+      NODELET_WARN(
+          "camera '%s' is not calibrated (%s): publishing camera_info with the image size only; calibrate "
+          "with camera_calibration, which stores the result through set_camera_info",
+          params_.camera_name.c_str(), why.c_str());
     }
 
     // The source exists before the topics are advertised: the player's start gate must be in place
@@ -261,18 +264,20 @@ private:
 
     image_transport_.reset(new image_transport::ImageTransport(nh));
     // Connection counts for the player's start (any transport counts as an image subscriber).
-    auto image_connect = [this](const image_transport::SingleSubscriberPublisher&) {
+    auto image_connect = [this](const image_transport::SingleSubscriberPublisher&)
+    {
       ++image_subscribers_;
       maybeStartPlayback();
     };
     auto image_disconnect = [this](const image_transport::SingleSubscriberPublisher&) { --image_subscribers_; };
-    auto info_connect = [this](const ros::SingleSubscriberPublisher&) {
+    auto info_connect = [this](const ros::SingleSubscriberPublisher&)
+    {
       ++info_subscribers_;
       maybeStartPlayback();
     };
     auto info_disconnect = [this](const ros::SingleSubscriberPublisher&) { --info_subscribers_; };
-    publisher_ =
-        image_transport_->advertiseCamera("image_raw", 1, image_connect, image_disconnect, info_connect, info_disconnect);
+    publisher_ = image_transport_->advertiseCamera("image_raw", 1, image_connect, image_disconnect, info_connect,
+                                                   info_disconnect);
 
     min_rate_ = max_rate_ = config.settings.rate;
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
@@ -282,24 +287,27 @@ private:
     frequency_.reset(new diagnostic_updater::FrequencyStatus(
         diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.1, 10), "frame rate"));
     updater_->add("frame rate", this, &CameraNodelet::diagnoseRate);
-    diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) {
-      const double rate = nominal_rate_.load();
-      if (rate > 0.0)
-        min_rate_ = max_rate_ = rate;  // the rate the device actually runs at
-      maybeStartPlayback();  // a subscriber of the image alone starts the player after a grace time
-      logUnreadableFiles();
-      // A camera that stops (or starts) delivering is published at once, not at the next diagnostic_period.
-      const bool failing = captureFailing();
-      if (failing != published_failing_)
-      {
-        published_failing_ = failing;
-        updater_->force_update();
-      }
-      else
-      {
-        updater_->update();
-      }
-    });
+    diagnostics_timer_ = nh.createWallTimer(
+        ros::WallDuration(0.25),
+        [this](const ros::WallTimerEvent&)
+        {
+          const double rate = nominal_rate_.load();
+          if (rate > 0.0)
+            min_rate_ = max_rate_ = rate;  // the rate the device actually runs at
+          maybeStartPlayback();            // a subscriber of the image alone starts the player after a grace time
+          logUnreadableFiles();
+          // A camera that stops (or starts) delivering is published at once, not at the next diagnostic_period.
+          const bool failing = captureFailing();
+          if (failing != published_failing_)
+          {
+            published_failing_ = failing;
+            updater_->force_update();
+          }
+          else
+          {
+            updater_->update();
+          }
+        });
 
     // Device I/O happens on the capture thread only: onInit returns at once.
     capture_.reset(new CaptureThread(
@@ -323,7 +331,8 @@ private:
     else if (image_subscribed_since_.isZero())
       image_subscribed_since_ = now;
     const double image_for = images > 0 ? (now - image_subscribed_since_).toSec() : 0.0;
-    if (!start_gate_->isOpen() && shouldStartPlayback(images, info_subscribers_.load(), image_for, kImageOnlyStartGrace))
+    if (!start_gate_->isOpen() &&
+        shouldStartPlayback(images, info_subscribers_.load(), image_for, kImageOnlyStartGrace))
     {
       start_gate_->open();
       NODELET_INFO("a subscriber is connected: starting playback with frame 0");
@@ -420,8 +429,8 @@ private:
         const ros::WallTime now = ros::WallTime::now();
         if (event.message != last_logged_error_ || (now - last_error_time_).toSec() > 60.0)
         {
-          NODELET_ERROR("%s; retrying in %.2g s, then at least once every %.2g s", event.message.c_str(), event.retry_in,
-                        params_.camera.reconnect_max_backoff);
+          NODELET_ERROR("%s; retrying in %.2g s, then at least once every %.2g s", event.message.c_str(),
+                        event.retry_in, params_.camera.reconnect_max_backoff);
           last_logged_error_ = event.message;
           last_error_time_ = now;
         }
@@ -537,7 +546,7 @@ private:
   std::string last_logged_error_;
   ros::WallTime last_error_time_;
   int expected_width_ = 0, expected_height_ = 0;  ///< the rig's image size (0: no rig given)
-  bool published_failing_ = false;                 ///< timer thread only
+  bool published_failing_ = false;                ///< timer thread only
   // Player only (null otherwise): the gate that holds frame 0 until a subscriber is there, and the
   // files it could not read.
   std::shared_ptr<StartGate> start_gate_;
@@ -545,9 +554,9 @@ private:
   std::atomic<int> image_subscribers_{ 0 };
   std::atomic<int> info_subscribers_{ 0 };
   std::mutex start_mutex_;
-  ros::WallTime image_subscribed_since_;  ///< guarded by start_mutex_
-  std::size_t unreadable_logged_ = 0;     ///< timer thread only: names logged so far
-  ros::WallTime last_unreadable_log_;     ///< timer thread only
+  ros::WallTime image_subscribed_since_;    ///< guarded by start_mutex_
+  std::size_t unreadable_logged_ = 0;       ///< timer thread only: names logged so far
+  ros::WallTime last_unreadable_log_;       ///< timer thread only
   std::unique_ptr<CaptureThread> capture_;  // last: stopped first, before what its callbacks use
 };
 

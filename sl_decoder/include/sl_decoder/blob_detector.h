@@ -126,24 +126,24 @@ private:
   void appendSpans(std::vector<Region>& regions);
 
   DecoderConfig config_;
-  std::vector<int32_t> col_sum_;    // column sums over the window rows of the current row
-  std::vector<int32_t> prefix_;     // prefix sums of col_sum_
-  std::vector<uint64_t> bits_;      // foreground flags of the current row, one bit per pixel
-  std::vector<float> weight_;       // value minus local mean of the current row's pixels
+  std::vector<int32_t> col_sum_;  // column sums over the window rows of the current row
+  std::vector<int32_t> prefix_;   // prefix sums of col_sum_
+  std::vector<uint64_t> bits_;    // foreground flags of the current row, one bit per pixel
+  std::vector<float> weight_;     // value minus local mean of the current row's pixels
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
   std::vector<Acc> acc_;
   int components_ = 0;
   long split_pixels_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
-  static constexpr int kLastLevel = 5;  // raised thresholds tried before cutting by the pitch
+  static constexpr int kLastLevel = 5;           // raised thresholds tried before cutting by the pitch
   static constexpr float kBandMinMargin = 0.3f;  // px between the lopsided and the straight edge
-  std::vector<float> top_, bottom_;  // outline of a saturated band per column, px
+  std::vector<float> top_, bottom_;              // outline of a saturated band per column, px
   // Splitting of oversized components (buffers reused).
   std::vector<Region> oversized_, pending_, parts_;
-  std::vector<Span> spans_;            // pixels of the regions above
-  std::vector<int32_t> region_of_;     // per component of detect(): its index in oversized_, or -1
-  std::vector<int32_t> part_of_run_;   // per run: its region (oversized_ or parts_), or -1
+  std::vector<Span> spans_;           // pixels of the regions above
+  std::vector<int32_t> region_of_;    // per component of detect(): its index in oversized_, or -1
+  std::vector<int32_t> part_of_run_;  // per run: its region (oversized_ or parts_), or -1
 };
 
 }  // namespace sl_decoder

@@ -25,13 +25,13 @@ namespace sl_decoder
 /// @brief Wall-clock time of each stage of the last decode, ms.
 struct StageTimes
 {
-  double detect = 0.0;     ///< thresholding, labelling, filtering, centroids
-  double classify = 0.0;   ///< shape identification
-  double candidates = 0.0; ///< epipolar candidates per blob
-  double neighbours = 0.0; ///< neighbour search
-  double correspond = 0.0; ///< support, acceptance, validation
-  double depth = 0.0;      ///< 3D points
-  double total = 0.0;      ///< everything
+  double detect = 0.0;      ///< thresholding, labelling, filtering, centroids
+  double classify = 0.0;    ///< shape identification
+  double candidates = 0.0;  ///< epipolar candidates per blob
+  double neighbours = 0.0;  ///< neighbour search
+  double correspond = 0.0;  ///< support, acceptance, validation
+  double depth = 0.0;       ///< 3D points
+  double total = 0.0;       ///< everything
 };
 
 /// @brief Everything one decode produces. Reused across frames (no allocation after warm-up).
@@ -104,10 +104,10 @@ private:
   struct Candidate
   {
     int32_t primitive;
-    float depth;      // camera z, m
-    float epipolar;   // px
-    uint8_t bits;     // consistent neighbours, bit d for Direction d
-    bool tight;       // within the epipolar tolerance (others, within twice it, only compete)
+    float depth;     // camera z, m
+    float epipolar;  // px
+    uint8_t bits;    // consistent neighbours, bit d for Direction d
+    bool tight;      // within the epipolar tolerance (others, within twice it, only compete)
   };
 
   /// Maps a cell read from a saturated band's outline into pattern terms and moves it to its centroid.
@@ -158,10 +158,10 @@ private:
   std::vector<int32_t> cand_begin_;  // blobs + 1
   std::vector<Candidate> cands_;
   std::vector<int32_t> grid_start_, grid_items_, grid_fill_;
-  std::vector<int32_t> owner_;  // primitive -> blob, for duplicate detection
-  std::vector<int32_t> label_;  // blob -> candidate index (working copy)
-  std::vector<int32_t> grow_;   // (blob, candidate) pairs decoded in a growth round
-  std::vector<int32_t> word_;   // blob -> primitive its full word names, or -1 (identify_by_words)
+  std::vector<int32_t> owner_;              // primitive -> blob, for duplicate detection
+  std::vector<int32_t> label_;              // blob -> candidate index (working copy)
+  std::vector<int32_t> grow_;               // (blob, candidate) pairs decoded in a growth round
+  std::vector<int32_t> word_;               // blob -> primitive its full word names, or -1 (identify_by_words)
   static constexpr size_t kSizeLevels = 8;  // Blob::level values with their own median (more share the last)
   std::vector<int> sizes_w_[kSizeLevels], sizes_h_[kSizeLevels];  // box sizes of identified blobs per level
   int grid_w_ = 0, grid_h_ = 0;

@@ -26,24 +26,24 @@ const char* depthModeName(DepthMode mode);
 struct DecoderConfig
 {
   // Local thresholding: a pixel is foreground when it exceeds the mean of its window by the offset.
-  int threshold_window = 15;       ///< side of the square mean window, px (odd, >= 3)
-  double threshold_offset = 3.0;   ///< grey levels above the local mean
+  int threshold_window = 15;      ///< side of the square mean window, px (odd, >= 3)
+  double threshold_offset = 3.0;  ///< grey levels above the local mean
   // Blob filters (speckles, bands, saturated patches).
-  int min_area = 12;               ///< px
-  int max_area = 1500;             ///< px
-  int min_width = 3;               ///< bounding box, px
-  int min_height = 5;              ///< bounding box, px
-  int max_width = 60;              ///< bounding box, px
-  int max_height = 90;             ///< bounding box, px
-  double max_aspect = 1.6;         ///< width / height above this is a band, not a primitive
-  double min_fill = 0.35;          ///< area / bounding-box area
-  double min_contrast = 6.0;       ///< peak minus local mean, grey levels
+  int min_area = 12;          ///< px
+  int max_area = 1500;        ///< px
+  int min_width = 3;          ///< bounding box, px
+  int min_height = 5;         ///< bounding box, px
+  int max_width = 60;         ///< bounding box, px
+  int max_height = 90;        ///< bounding box, px
+  double max_aspect = 1.6;    ///< width / height above this is a band, not a primitive
+  double min_fill = 0.35;     ///< area / bounding-box area
+  double min_contrast = 6.0;  ///< peak minus local mean, grey levels
   // Shape identification.
-  int template_width = 8;          ///< samples across a blob
-  int template_height = 14;        ///< samples down a blob
-  double template_sigma = 0.8;     ///< blur of the ideal templates, template samples
-  double min_margin = 0.08;        ///< best minus second-best correlation to identify a shape
-  double min_correlation = 0.35;   ///< best correlation to identify a shape
+  int template_width = 8;         ///< samples across a blob
+  int template_height = 14;       ///< samples down a blob
+  double template_sigma = 0.8;    ///< blur of the ideal templates, template samples
+  double min_margin = 0.08;       ///< best minus second-best correlation to identify a shape
+  double min_correlation = 0.35;  ///< best correlation to identify a shape
   // Neighbour windows, in units of the local pattern step (east step, south step).
   double neighbour_along_min = 0.55;  ///< nearest acceptable distance along the direction
   double neighbour_along_max = 1.5;   ///< farthest acceptable distance along the direction
@@ -58,8 +58,8 @@ struct DecoderConfig
   double max_depth = 2.5;           ///< m, camera z
   double nominal_depth = 0.7;       ///< m, where the pattern step is measured for the neighbour windows
   // Acceptance.
-  int min_support = 2;              ///< consistent neighbours a decoded primitive needs (1 if its candidate is unique)
-  double min_confidence = 0.0;      ///< points below this confidence are not output
+  int min_support = 2;          ///< consistent neighbours a decoded primitive needs (1 if its candidate is unique)
+  double min_confidence = 0.0;  ///< points below this confidence are not output
   DepthMode depth_mode = DepthMode::Triangulation;  ///< depth model
   /// Near range: split components merged by defocus and overexposure (raised thresholds, the
   /// pattern's pitch, saturated outlines; BlobDetector). false: the detection of the first

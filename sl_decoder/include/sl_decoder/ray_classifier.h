@@ -166,8 +166,8 @@ public:
   const Eigen::Vector3f& projectorCentre() const { return origin_; }
 
 private:
-  static constexpr int kShift = 2;  // 4 px blocks
-  static constexpr int kRadius = 2; // neighbourhood of the local minimum, blocks
+  static constexpr int kShift = 2;   // 4 px blocks
+  static constexpr int kRadius = 2;  // neighbourhood of the local minimum, blocks
 
   struct Sample
   {
@@ -177,8 +177,8 @@ private:
   };
   struct Primitive
   {
-    int32_t begin = 0, end = 0;  // samples
-    uint8_t shape = 0;           // pattern value 1..4
+    int32_t begin = 0, end = 0;                               // samples
+    uint8_t shape = 0;                                        // pattern value 1..4
     float floor_z = std::numeric_limits<float>::quiet_NaN();  // camera z of the floor hit, NaN: none
     float limit = std::numeric_limits<float>::infinity();     // camera z where the ray meets the floor
     float floor_gain = 0.f;  // cos(incidence) / z^2 at the floor hit: floor light <= C1 * floor_gain
@@ -233,23 +233,23 @@ private:
   std::vector<Sample> samples_;
   // Light map (blocks), per frame.
   int bw_ = 0, bh_ = 0;
-  std::vector<uint8_t> bmax_;   // brightest 2 x 2 bin mean of the block
-  std::vector<uint8_t> bmin_;   // block mean
-  std::vector<uint8_t> lmin_;   // smallest block mean of the (2R+1)^2 blocks around: the background
+  std::vector<uint8_t> bmax_;  // brightest 2 x 2 bin mean of the block
+  std::vector<uint8_t> bmin_;  // block mean
+  std::vector<uint8_t> lmin_;  // smallest block mean of the (2R+1)^2 blocks around: the background
   std::vector<uint8_t> tmp_;
-  std::vector<uint8_t> pad_;    // a row of block means with a border of 255, for the minimum
-  std::vector<float> claim_;   // nearest depth claiming the block, +inf when none
-  std::vector<uint8_t> shape_; // identified undecoded blob's shape covering the block, 0 none, 255 several
-  std::vector<float> bounds_;  // per decoded blob: contrast * z^2
-  std::vector<float> floor_light_;  // per primitive: floorLight() of this frame
-  std::vector<int32_t> lit_free_;   // per primitive: the last free sample before its light (lit), -1 none
+  std::vector<uint8_t> pad_;          // a row of block means with a border of 255, for the minimum
+  std::vector<float> claim_;          // nearest depth claiming the block, +inf when none
+  std::vector<uint8_t> shape_;        // identified undecoded blob's shape covering the block, 0 none, 255 several
+  std::vector<float> bounds_;         // per decoded blob: contrast * z^2
+  std::vector<float> floor_light_;    // per primitive: floorLight() of this frame
+  std::vector<int32_t> lit_free_;     // per primitive: the last free sample before its light (lit), -1 none
   std::vector<uint8_t> unsupported_;  // per primitive: a lit end no neighbouring row confirms
   std::vector<uint8_t> near_other_;   // per primitive: lit at light of another shape or the border, in the glow zone
   // Per-frame results.
   double c1_ = 0.0, frame_bound_ = 0.0, detectable_depth_ = 0.0;
-  float k_ = 0.f;          // light_fraction * min_albedo * C1
-  float duty_ = 0.3f;      // lit fraction of the projector frame: a fully blurred pattern's glow is this times its peak
-  float inv_z2_min_ = 0.f; // samples with 1/z^2 below this are beyond the detectable depth
+  float k_ = 0.f;      // light_fraction * min_albedo * C1
+  float duty_ = 0.3f;  // lit fraction of the projector frame: a fully blurred pattern's glow is this times its peak
+  float inv_z2_min_ = 0.f;  // samples with 1/z^2 below this are beyond the detectable depth
   int dark_level_ = 0;
   std::array<int, kRayStates> counts_{};
 };

@@ -48,8 +48,8 @@ private:
   int tw_, th_;
   std::array<std::vector<float>, 4> templates_;  // zero mean, unit norm
   std::vector<float> samples_;
-  std::vector<int> ix_, iy_;      // sample grid: left/top source pixel
-  std::vector<float> ax_, ay_;    // and the interpolation weights
+  std::vector<int> ix_, iy_;    // sample grid: left/top source pixel
+  std::vector<float> ax_, ay_;  // and the interpolation weights
 };
 
 }  // namespace sl_decoder

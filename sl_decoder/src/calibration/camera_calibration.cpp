@@ -29,8 +29,10 @@ void Board::validate() const
     throw std::invalid_argument("board: needs at least 2 x 2 inner corners, got " + std::to_string(cols) + "x" +
                                 std::to_string(rows));
   if (cols == rows)
-    throw std::invalid_argument("board: use a board with different numbers of inner corners along its two sides "
-                                "(got " + std::to_string(cols) + "x" + std::to_string(rows) + ")");
+    throw std::invalid_argument(
+        "board: use a board with different numbers of inner corners along its two sides "
+        "(got " +
+        std::to_string(cols) + "x" + std::to_string(rows) + ")");
   if (!(square > 0.0) || !std::isfinite(square))
     throw std::invalid_argument("square: must be > 0 m");
   if (square > 1.0)
@@ -79,13 +81,15 @@ bool findBoardCorners(const cv::Mat& grey, const Board& board, std::vector<cv::P
   for (int r = 0; r < board.rows; ++r)
     for (int c = 0; c + 1 < board.cols; ++c)
     {
-      const cv::Point2f d = corners[static_cast<size_t>(r * board.cols + c + 1)] - corners[static_cast<size_t>(r * board.cols + c)];
+      const cv::Point2f d =
+          corners[static_cast<size_t>(r * board.cols + c + 1)] - corners[static_cast<size_t>(r * board.cols + c)];
       spacing = std::min(spacing, static_cast<double>(std::hypot(d.x, d.y)));
     }
   for (int r = 0; r + 1 < board.rows; ++r)
     for (int c = 0; c < board.cols; ++c)
     {
-      const cv::Point2f d = corners[static_cast<size_t>((r + 1) * board.cols + c)] - corners[static_cast<size_t>(r * board.cols + c)];
+      const cv::Point2f d =
+          corners[static_cast<size_t>((r + 1) * board.cols + c)] - corners[static_cast<size_t>(r * board.cols + c)];
       spacing = std::min(spacing, static_cast<double>(std::hypot(d.x, d.y)));
     }
   const int half = std::max(2, std::min(11, static_cast<int>(spacing * 0.4)));
@@ -297,7 +301,8 @@ std::string cameraInfoYaml(const sl_projector::PinholeModel& c, const std::strin
 {
   std::ostringstream o;
   o.precision(12);
-  auto list = [&](const std::vector<double>& v) {
+  auto list = [&](const std::vector<double>& v)
+  {
     o << "[";
     for (size_t i = 0; i < v.size(); ++i)
       o << (i ? ", " : "") << v[i];

@@ -11,7 +11,8 @@ namespace sl_decoder
 namespace calibration
 {
 
-FullCalibration::FullCalibration(const sl_projector::Rig& rig, const Board& board, const FullCalibrationOptions& options)
+FullCalibration::FullCalibration(const sl_projector::Rig& rig, const Board& board,
+                                 const FullCalibrationOptions& options)
   : rig_(rig), board_(board), options_(options)
 {
   board_.validate();
@@ -26,8 +27,8 @@ void FullCalibration::setCamera(const sl_projector::PinholeModel& camera)
 {
   if (camera.width != rig_.camera.width || camera.height != rig_.camera.height)
     throw CalibrationError("the given camera model is " + std::to_string(camera.width) + " x " +
-                           std::to_string(camera.height) + " px, the rig's camera " + std::to_string(rig_.camera.width) +
-                           " x " + std::to_string(rig_.camera.height));
+                           std::to_string(camera.height) + " px, the rig's camera " +
+                           std::to_string(rig_.camera.width) + " x " + std::to_string(rig_.camera.height));
   camera_ = camera;
   camera_given_ = true;
 }
@@ -49,7 +50,8 @@ void FullCalibration::addCameraView(const std::string& name, const cv::Mat& grey
   checkImage(name, grey);
   std::vector<cv::Point2f> corners;
   if (!findBoardCorners(grey, board_, corners))
-    throw CalibrationError(name + ": checkerboard of " + std::to_string(board_.cols) + "x" + std::to_string(board_.rows) +
+    throw CalibrationError(name + ": checkerboard of " + std::to_string(board_.cols) + "x" +
+                           std::to_string(board_.rows) +
                            " inner corners not found (the whole board must be visible, lit, and in focus)");
   addCameraCorners(name, corners);
 }
@@ -88,7 +90,8 @@ void FullCalibration::addPlaneView(const std::string& board_name, const cv::Mat&
   const std::vector<PrimitiveSample> samples = decode(pattern_name, pattern_grey);
   if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
     throw CalibrationError(pattern_name + ": only " + std::to_string(samples.size()) +
-                           " pattern primitives decoded (need " + std::to_string(options_.projector.min_points_per_view) +
+                           " pattern primitives decoded (need " +
+                           std::to_string(options_.projector.min_points_per_view) +
                            "): is the projector on and the pattern on the plane?");
   addPlaneSamples(board_name + " + " + pattern_name, corners, samples);
 }
@@ -103,8 +106,8 @@ void FullCalibration::addPlaneSamples(const std::string& name, const std::vector
                                       const std::vector<PrimitiveSample>& samples)
 {
   if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
-    throw CalibrationError(name + ": only " + std::to_string(samples.size()) +
-                           " pattern primitives decoded (need " + std::to_string(options_.projector.min_points_per_view) +
+    throw CalibrationError(name + ": only " + std::to_string(samples.size()) + " pattern primitives decoded (need " +
+                           std::to_string(options_.projector.min_points_per_view) +
                            "): is the projector on and the pattern on the plane?");
   addCameraCorners(name, corners);
   PlaneView v;
@@ -121,8 +124,8 @@ void FullCalibration::addDistanceSamples(const std::string& name, double distanc
     throw CalibrationError(name + ": the plane distance must be a positive number of metres, got " +
                            std::to_string(distance));
   if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
-    throw CalibrationError(name + ": only " + std::to_string(samples.size()) +
-                           " pattern primitives decoded (need " + std::to_string(options_.projector.min_points_per_view) +
+    throw CalibrationError(name + ": only " + std::to_string(samples.size()) + " pattern primitives decoded (need " +
+                           std::to_string(options_.projector.min_points_per_view) +
                            "): is the projector on and the pattern on the plane?");
   PlaneView v;
   v.name = name;
@@ -213,8 +216,8 @@ void jointResiduals(const Eigen::VectorXd& p, const std::vector<BoardView>& boar
     for (size_t i = 0; i < object.size(); ++i)
     {
       const Eigen::Vector3d P(object[i].x, object[i].y, object[i].z);
-      const Eigen::Vector2d e = cam.project(Rb[j] * P + tb[j]) -
-                                Eigen::Vector2d(boards[j].corners[i].x, boards[j].corners[i].y);
+      const Eigen::Vector2d e =
+          cam.project(Rb[j] * P + tb[j]) - Eigen::Vector2d(boards[j].corners[i].x, boards[j].corners[i].y);
       r(k++) = std::isfinite(e.x()) ? e.x() : 1e3;
       r(k++) = std::isfinite(e.y()) ? e.y() : 1e3;
     }
@@ -246,7 +249,8 @@ FullCalibrationResult FullCalibration::calibrate() const
   if (static_cast<int>(plane_views_.size()) < options_.projector.min_views)
     throw CalibrationError("full calibration needs >= " + std::to_string(options_.projector.min_views) +
                            " plane poses with the pattern (board + pattern image, or pattern image at a known "
-                           "distance), got " + std::to_string(plane_views_.size()));
+                           "distance), got " +
+                           std::to_string(plane_views_.size()));
   // 1. Camera.
   std::vector<sl_projector::RigidTransform> board_poses(board_views_.size());
   if (camera_given_)
@@ -268,7 +272,8 @@ FullCalibrationResult FullCalibration::calibrate() const
                              " checkerboard views at different orientations, got " +
                              std::to_string(board_views_.size()) +
                              " (or give the camera model, e.g. from ROS camera_calibration)");
-    out.camera = calibrateCamera(board_views_, board_, cv::Size(rig_.camera.width, rig_.camera.height), options_.camera);
+    out.camera =
+        calibrateCamera(board_views_, board_, cv::Size(rig_.camera.width, rig_.camera.height), options_.camera);
     out.camera_calibrated = true;
     board_poses = out.camera.board_poses;
     for (const BoardView& v : board_views_)
@@ -347,11 +352,9 @@ FullCalibrationResult FullCalibration::calibrate() const
     const std::vector<cv::Point3f> object = board_.objectPoints();
     LevenbergMarquardt lm;
     lm.max_iterations = options_.max_iterations;
-    lm.minimize(
-        [&](const Eigen::VectorXd& q, Eigen::VectorXd& r) {
-          jointResiduals(q, board_views_, object, prims, camera, out.projector.projector, r);
-        },
-        free, p);
+    lm.minimize([&](const Eigen::VectorXd& q, Eigen::VectorXd& r)
+                { jointResiduals(q, board_views_, object, prims, camera, out.projector.projector, r); },
+                free, p);
     if (p.allFinite() && p(kCam) > 0.0 && p(kCam + 1) > 0.0 && p(kProj) > 0.0 && p(kProj + 1) > 0.0)
     {
       Eigen::VectorXd r;

@@ -96,8 +96,9 @@ CalibrationPlane planeAtDistance(const sl_projector::Rig& rig, double distance, 
   plane.normal = cam.rotation.transpose() * Eigen::Vector3d::UnitX();
   plane.offset = d - cam.translation.x();
   if (plane.normal.z() <= 0.1)
-    throw std::invalid_argument("the camera does not look along the robot's x axis (mount.rpy): a plane "
-                                "perpendicular to the robot is not in front of it");
+    throw std::invalid_argument(
+        "the camera does not look along the robot's x axis (mount.rpy): a plane "
+        "perpendicular to the robot is not in front of it");
   if (plane.offset <= 0.0)
     throw std::invalid_argument("a plane at " + fixed(distance, 3) + " m from the edge is behind the camera");
   return plane;
@@ -169,7 +170,8 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
     return m;
   Eigen::Vector3d p = qr.solve(rhs);
 
-  auto residuals = [&](const Eigen::Vector3d& q, Eigen::VectorXd& r) {
+  auto residuals = [&](const Eigen::Vector3d& q, Eigen::VectorXd& r)
+  {
     r.resize(static_cast<long>(n));
     for (size_t i = 0; i < n; ++i)
     {
@@ -178,7 +180,8 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
     }
     return r.squaredNorm();
   };
-  auto poleFree = [&](const Eigen::Vector3d& q) {
+  auto poleFree = [&](const Eigen::Vector3d& q)
+  {
     // The denominator is linear in t: positive at both ends means positive over the whole range.
     return 1.0 + q(2) * -1.0 > 1e-3 && 1.0 + q(2) * 1.0 > 1e-3;
   };
@@ -265,13 +268,14 @@ int PlaneCalibration::groupFor(double distance)
   return static_cast<int>(groups_.size()) - 1;
 }
 
-int PlaneCalibration::addSamples(double distance, const std::vector<PrimitiveSample>& samples, const std::string& source)
+int PlaneCalibration::addSamples(double distance, const std::vector<PrimitiveSample>& samples,
+                                 const std::string& source)
 {
   if (!std::isfinite(distance) || distance <= 0.0)
   {
     std::ostringstream o;
-    o << (source.empty() ? std::string("image") : source) << ": the plane distance must be a positive number of metres, got "
-      << distance;
+    o << (source.empty() ? std::string("image") : source)
+      << ": the plane distance must be a positive number of metres, got " << distance;
     throw CalibrationError(o.str());
   }
   if (distance > 20.0)
@@ -339,7 +343,8 @@ PlaneCalibrationResult PlaneCalibration::fit() const
       s.primitives += px.empty() ? 0 : 1;
     res.distances.push_back(s);
   }
-  auto listDistances = [&]() {
+  auto listDistances = [&]()
+  {
     std::string out;
     for (const DistanceSummary& s : res.distances)
       out += (out.empty() ? "" : ", ") + fixed(s.distance, 3) + " m (" + std::to_string(s.images) + " image" +
@@ -475,11 +480,11 @@ PlaneCalibrationResult PlaneCalibration::fit() const
     if (res.seen == 0)
       why = "no primitive was decoded in any image";
     else
-      why = std::to_string(res.too_few) + " of the " + std::to_string(res.seen) + " primitives seen were seen at fewer than " +
-            std::to_string(options_.min_distances) + " distances" +
+      why = std::to_string(res.too_few) + " of the " + std::to_string(res.seen) +
+            " primitives seen were seen at fewer than " + std::to_string(options_.min_distances) + " distances" +
             (res.rejected ? ", " + std::to_string(res.rejected) + " had inconsistent fits" : std::string());
-    throw CalibrationError("plane calibration: no primitive could be calibrated: " + why + ". Distances: " +
-                           listDistances());
+    throw CalibrationError("plane calibration: no primitive could be calibrated: " + why +
+                           ". Distances: " + listDistances());
   }
   return res;
 }
@@ -552,7 +557,9 @@ std::string PlaneCalibrationResult::residualsCsv() const
   for (const PrimitiveFit& f : primitives)
   {
     o << f.row << "," << f.col << "," << f.distances << ","
-      << (f.rational.valid ? "calibrated" : f.rejected ? "rejected" : "too_few_distances");
+      << (f.rational.valid ? "calibrated"
+          : f.rejected     ? "rejected"
+                           : "too_few_distances");
     for (size_t k = 0; k < f.u.size(); ++k)
       o << "," << num(f.u[k], 3) << "," << num(1000.0 * f.linear_residual[k], 3) << ","
         << num(1000.0 * f.rational_residual[k], 3);

@@ -183,7 +183,8 @@ void unpack(const Eigen::VectorXd& p, int width, int height, sl_projector::Pinho
 void fit(const std::vector<ProjectorCorrespondence>& corr, int width, int height, const std::vector<bool>& free,
          int iterations, Eigen::VectorXd& params)
 {
-  auto residuals = [&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+  auto residuals = [&](const Eigen::VectorXd& p, Eigen::VectorXd& r)
+  {
     sl_projector::PinholeModel m;
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
@@ -279,8 +280,9 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
     }
   }
   if (consensus.size() < 12 || !linearEstimate(consensus, K, R, t))
-    throw CalibrationError("projector calibration: no consistent linear estimate (are all plane poses the same plane, "
-                           "or is most of the pattern decoded wrongly?)");
+    throw CalibrationError(
+        "projector calibration: no consistent linear estimate (are all plane poses the same plane, "
+        "or is most of the pattern decoded wrongly?)");
 
   Eigen::VectorXd params = Eigen::VectorXd::Zero(kParams);
   params << K(0, 0), K(1, 1), K(0, 2), K(1, 2), 0, 0, 0, 0, 0, vectorFromRotation(R), t;

@@ -64,8 +64,9 @@ CalibrationParams readParams(const ros::NodeHandle& pnh)
   if (p.mode != "plane" && p.mode != "full")
     throw std::invalid_argument("~mode: must be 'plane' or 'full', got '" + p.mode + "'");
   if (!pnh.getParam("calibration_file", p.calibration_file) || p.calibration_file.empty())
-    throw std::invalid_argument("~calibration_file: required (the rig file to start from, e.g. "
-                                "$(find sl_projector)/config/default_rig.yaml)");
+    throw std::invalid_argument(
+        "~calibration_file: required (the rig file to start from, e.g. "
+        "$(find sl_projector)/config/default_rig.yaml)");
   try
   {
     p.rig = sl_projector::loadRig(p.calibration_file);
@@ -282,9 +283,10 @@ private:
         m.data = d;
         next_distance_pub_.publish(m);
         o << "plane calibration: put the plane at " << fixed(d, 3) << " m ("
-          << (p_.plane.normal == PlaneNormal::Camera ? "perpendicular to the camera's optical axis" :
-                                                       "perpendicular to the robot's x axis")
-          << ", measured from the " << (p_.plane.reference == DistanceReference::Camera ? "camera's optical centre" : "robot's front edge")
+          << (p_.plane.normal == PlaneNormal::Camera ? "perpendicular to the camera's optical axis"
+                                                     : "perpendicular to the robot's x axis")
+          << ", measured from the "
+          << (p_.plane.reference == DistanceReference::Camera ? "camera's optical centre" : "robot's front edge")
           << "), then: rosservice call " << service_prefix_ << "/capture";
       }
       else

@@ -99,7 +99,8 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   NodeParams p;
   p.calibration_file = sl_params::read(pnh, "calibration_file", p.calibration_file);
   if (p.calibration_file.empty())
-    throw std::invalid_argument("~calibration_file is required (the rig file, e.g. sl_projector/config/default_rig.yaml)");
+    throw std::invalid_argument(
+        "~calibration_file is required (the rig file, e.g. sl_projector/config/default_rig.yaml)");
   p.target_frame = sl_params::read(pnh, "target_frame", p.target_frame);
   if (p.target_frame.empty())
     throw std::invalid_argument("~target_frame must not be empty");
@@ -169,10 +170,10 @@ private:
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
     it_.reset(new image_transport::ImageTransport(nh));
 
-    const ros::SubscriberStatusCallback connect = [this](const ros::SingleSubscriberPublisher&) { updateSubscription(); };
-    const image_transport::SubscriberStatusCallback image_connect = [this](const image_transport::SingleSubscriberPublisher&) {
-      updateSubscription();
-    };
+    const ros::SubscriberStatusCallback connect = [this](const ros::SingleSubscriberPublisher&)
+    { updateSubscription(); };
+    const image_transport::SubscriberStatusCallback image_connect =
+        [this](const image_transport::SingleSubscriberPublisher&) { updateSubscription(); };
     std::lock_guard<std::mutex> lock(connect_mutex_);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("points", 2, connect, connect);
     rays_pub_ = nh.advertise<sensor_msgs::PointCloud2>("ray_ends", 2, connect, connect);
@@ -185,9 +186,8 @@ private:
     diagnostics_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     diagnostics_->setHardwareID("sl_decoder");
     diagnostics_->add("decoding", this, &DecoderNodelet::diagnose);
-    diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
-      diagnostics_->update();
-    });
+    diagnostics_timer_ =
+        nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
     NODELET_INFO("decoder ready: %d x %d camera, %d x %d pattern, depth %s, points in %s", rig_.camera.width,
                  rig_.camera.height, rig_.pattern.rows, rig_.pattern.cols, depthModeName(params_.decoder.depth_mode),
                  params_.target_frame.c_str());
@@ -222,7 +222,8 @@ private:
                         debug_pub_.getNumSubscribers() > 0 || rays_pub_.getNumSubscribers() > 0 || params_.rays;
     if (wanted && !image_sub_)
     {
-      image_sub_ = it_->subscribe("image_raw", static_cast<uint32_t>(params_.queue_size), &DecoderNodelet::onImage, this);
+      image_sub_ =
+          it_->subscribe("image_raw", static_cast<uint32_t>(params_.queue_size), &DecoderNodelet::onImage, this);
       NODELET_DEBUG("subscribed to %s", image_sub_.getTopic().c_str());
     }
     else if (!wanted && image_sub_)
@@ -312,9 +313,8 @@ private:
     try
     {
       if (params_.tf_timeout > 0.0 || tf_buffer_->canTransform(params_.target_frame, source, image_header.stamp))
-        to_target = tf2::transformToEigen(tf_buffer_->lookupTransform(params_.target_frame, source,
-                                                                       image_header.stamp,
-                                                                       ros::Duration(params_.tf_timeout)));
+        to_target = tf2::transformToEigen(tf_buffer_->lookupTransform(params_.target_frame, source, image_header.stamp,
+                                                                      ros::Duration(params_.tf_timeout)));
       else
       {
         const geometry_msgs::TransformStamped t =
@@ -416,7 +416,8 @@ private:
     cloud.header.stamp = image_header.stamp;
     cloud.header.frame_id = params_.target_frame;
     // Explicit offsets keep the uint16 fields aligned: 6 floats, state at 24, row at 26, col at 28.
-    auto field = [&cloud](const char* name, uint32_t offset, uint8_t type) {
+    auto field = [&cloud](const char* name, uint32_t offset, uint8_t type)
+    {
       sensor_msgs::PointField f;
       f.name = name;
       f.offset = offset;
@@ -463,9 +464,9 @@ private:
   void publishDepth(const std_msgs::Header& header, const DecodeResult& result)
   {
     // REP 118: 32FC1 metres in the camera frame, NaN where there is no measurement.
-    cv_bridge::CvImage depth(header, sensor_msgs::image_encodings::TYPE_32FC1,
-                             cv::Mat(rig_.camera.height, rig_.camera.width, CV_32FC1,
-                                     cv::Scalar(std::numeric_limits<float>::quiet_NaN())));
+    cv_bridge::CvImage depth(
+        header, sensor_msgs::image_encodings::TYPE_32FC1,
+        cv::Mat(rig_.camera.height, rig_.camera.width, CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN())));
     for (const Blob& b : result.blobs)
     {
       if (!b.valid)
@@ -493,8 +494,8 @@ private:
         cv::circle(debug.image, cv::Point(static_cast<int>(b.u), static_cast<int>(b.v)), 2, cv::Scalar(255, 255, 255),
                    cv::FILLED);
         if (b.col % 4 == 0)  // every fourth column, or the labels cover the image
-          cv::putText(debug.image, std::to_string(b.row) + "," + std::to_string(b.col),
-                      cv::Point(b.x0, b.y0 - 2), cv::FONT_HERSHEY_PLAIN, 0.6, cv::Scalar(255, 255, 255), 1);
+          cv::putText(debug.image, std::to_string(b.row) + "," + std::to_string(b.col), cv::Point(b.x0, b.y0 - 2),
+                      cv::FONT_HERSHEY_PLAIN, 0.6, cv::Scalar(255, 255, 255), 1);
       }
     }
     debug_pub_.publish(debug.toImageMsg());

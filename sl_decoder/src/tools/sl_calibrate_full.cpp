@@ -151,9 +151,10 @@ int main(int argc, char** argv)
     std::cout << "\n" << res.summary();
     sl_projector::saveRig(res.rig, out_path);
     written = true;
-    std::cout << "wrote " << out_path << (rig.tables.rational.empty() && rig.tables.linear.empty() ?
-                                              std::string() :
-                                              std::string(" (depth_tables kept from ") + rig_path + ")")
+    std::cout << "wrote " << out_path
+              << (rig.tables.rational.empty() && rig.tables.linear.empty()
+                      ? std::string()
+                      : std::string(" (depth_tables kept from ") + rig_path + ")")
               << "\n";
     if (!camera_info_out.empty())
     {

@@ -87,8 +87,8 @@ int forEachImage(const Source& source, const std::string& topic, Add add)
         for (const std::string& t : image_topics)
           list += " " + t;
         throw CalibrationError(source.path + ": " +
-                               (image_topics.empty() ? std::string("no image topic in the bag") :
-                                                       "several image topics, choose one with --topic:" + list));
+                               (image_topics.empty() ? std::string("no image topic in the bag")
+                                                     : "several image topics, choose one with --topic:" + list));
       }
       chosen = image_topics.front();
     }
@@ -197,18 +197,21 @@ int main(int argc, char** argv)
     DecodeResult result;
     for (const Source& s : sources)
     {
-      forEachImage(s, topic, [&](const std::string& name, const cv::Mat& grey) {
-        if (grey.cols != rig.camera.width || grey.rows != rig.camera.height)
-          throw CalibrationError(name + ": the image is " + std::to_string(grey.cols) + " x " +
-                                 std::to_string(grey.rows) + " px, the rig's camera " +
-                                 std::to_string(rig.camera.width) + " x " + std::to_string(rig.camera.height));
-        decoder.decode(grey, result);
-        const int n = calibration.addImage(s.distance, result, name);
-        std::cout << name << ": " << n << " primitives at " << fixed(s.distance, 3) << " m\n";
-        if (n == 0)
-          std::cerr << "sl_calibrate_plane: warning: " << name
-                    << ": no primitive decoded (projector off? plane not in view? wrong --rig?)\n";
-      });
+      forEachImage(s, topic,
+                   [&](const std::string& name, const cv::Mat& grey)
+                   {
+                     if (grey.cols != rig.camera.width || grey.rows != rig.camera.height)
+                       throw CalibrationError(name + ": the image is " + std::to_string(grey.cols) + " x " +
+                                              std::to_string(grey.rows) + " px, the rig's camera " +
+                                              std::to_string(rig.camera.width) + " x " +
+                                              std::to_string(rig.camera.height));
+                     decoder.decode(grey, result);
+                     const int n = calibration.addImage(s.distance, result, name);
+                     std::cout << name << ": " << n << " primitives at " << fixed(s.distance, 3) << " m\n";
+                     if (n == 0)
+                       std::cerr << "sl_calibrate_plane: warning: " << name
+                                 << ": no primitive decoded (projector off? plane not in view? wrong --rig?)\n";
+                   });
     }
     const PlaneCalibrationResult res = calibration.fit();
     std::cout << "\n" << res.summary();

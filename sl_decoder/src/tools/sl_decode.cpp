@@ -49,7 +49,7 @@ void writeRaysCsv(const std::string& path, const sl_projector::Rig& rig, const s
   if (!out)
     throw std::runtime_error("write to '" + path + "' failed");
 }
-}
+}  // namespace
 
 int main(int argc, char** argv)
 {

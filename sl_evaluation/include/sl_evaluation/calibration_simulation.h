@@ -23,9 +23,9 @@ namespace sl_evaluation
 /// @brief The calibration scenes of the simulator (sl_sim/scenes/calib_*.yaml).
 struct SimScenes
 {
-  std::string wall;                      ///< calib_wall.yaml: the plane for the plane calibration
-  std::vector<std::string> boards;       ///< calib_board_*.yaml: checkerboard views for the camera
-  std::vector<std::string> planes;       ///< calib_plane_*.yaml: calibration planes (board + pattern)
+  std::string wall;                 ///< calib_wall.yaml: the plane for the plane calibration
+  std::vector<std::string> boards;  ///< calib_board_*.yaml: checkerboard views for the camera
+  std::vector<std::string> planes;  ///< calib_plane_*.yaml: calibration planes (board + pattern)
 };
 
 /**
@@ -63,19 +63,20 @@ class CalibrationSimulator
 {
 public:
   /// @param rig the true rig. @param settings image formation. @param board_ambient ambient light of board images.
-  explicit CalibrationSimulator(const sl_projector::Rig& rig, const sl_sim::SimSettings& settings = sl_sim::SimSettings(),
+  explicit CalibrationSimulator(const sl_projector::Rig& rig,
+                                const sl_sim::SimSettings& settings = sl_sim::SimSettings(),
                                 double board_ambient = 0.6);
   ~CalibrationSimulator();
 
   /// @brief Pattern image (and ground truth) of @p scene seen from the robot at @p platform_edge_in_world.
   const sl_sim::RenderOutput& renderPattern(const sl_sim::Scene& scene, const Eigen::Isometry3d& platform_edge_in_world,
-                                               uint64_t seed);
+                                            uint64_t seed);
   /// @brief Board image (lights on, projector dark) of @p scene from the default robot pose.
   const sl_sim::RenderOutput& renderBoard(const sl_sim::Scene& scene, uint64_t seed);
   /// @brief The pattern image of the wall at @p distance (see platformEdgeForDistance()).
   const sl_sim::RenderOutput& renderWall(const sl_sim::Scene& wall_scene, double distance,
-                                            const sl_decoder::calibration::PlaneCalibrationOptions& options,
-                                            uint64_t seed);
+                                         const sl_decoder::calibration::PlaneCalibrationOptions& options,
+                                         uint64_t seed);
 
   /// @brief The true rig.
   const sl_projector::Rig& rig() const { return rig_; }
@@ -93,17 +94,16 @@ private:
 /// @brief Depth of two rigs compared on the same image (triangulation, primitives both decode).
 struct DepthAgreement
 {
-  int points = 0;         ///< primitives decoded by both
-  double mean_mm = 0.0;   ///< mean |z_a - z_b|, mm
-  double max_mm = 0.0;    ///< max |z_a - z_b|, mm
-  double mean_z = 0.0;    ///< mean depth of the points, m
+  int points = 0;        ///< primitives decoded by both
+  double mean_mm = 0.0;  ///< mean |z_a - z_b|, mm
+  double max_mm = 0.0;   ///< max |z_a - z_b|, mm
+  double mean_z = 0.0;   ///< mean depth of the points, m
 };
 
 /// @brief Decodes @p image with @p a and with @p b (triangulation) and compares the depths.
 DepthAgreement compareDepth(const sl_projector::Rig& a, const sl_projector::Rig& b, const cv::Mat& image);
 
 /// @brief Decodes a rendered frame with @p rig in @p mode and scores it against the ground truth.
-EvalStats evaluateRendered(const sl_projector::Rig& rig, sl_decoder::DepthMode mode,
-                           const sl_sim::RenderOutput& truth);
+EvalStats evaluateRendered(const sl_projector::Rig& rig, sl_decoder::DepthMode mode, const sl_sim::RenderOutput& truth);
 
 }  // namespace sl_evaluation

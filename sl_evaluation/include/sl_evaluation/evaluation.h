@@ -15,15 +15,15 @@ namespace sl_evaluation
 /// @brief Decoding quality of one or more frames.
 struct EvalStats
 {
-  int frames = 0;          ///< frames added
-  int visible = 0;         ///< primitives the camera sees well enough to decode (ground truth)
-  int identified = 0;      ///< blobs whose shape was identified
-  int decoded = 0;         ///< blobs given a (row, col)
-  int valid = 0;           ///< 3D points produced
-  int valid_visible = 0;   ///< correct points on visible primitives (the part of valid that visible counts)
-  int wrong = 0;           ///< points whose (row, col) is not the primitive lighting that pixel
-  int unverifiable = 0;    ///< points where the ground truth has no projector light nearby
-  int near_points = 0;     ///< valid points on surfaces 15+ mm in front of the frame's background
+  int frames = 0;              ///< frames added
+  int visible = 0;             ///< primitives the camera sees well enough to decode (ground truth)
+  int identified = 0;          ///< blobs whose shape was identified
+  int decoded = 0;             ///< blobs given a (row, col)
+  int valid = 0;               ///< 3D points produced
+  int valid_visible = 0;       ///< correct points on visible primitives (the part of valid that visible counts)
+  int wrong = 0;               ///< points whose (row, col) is not the primitive lighting that pixel
+  int unverifiable = 0;        ///< points where the ground truth has no projector light nearby
+  int near_points = 0;         ///< valid points on surfaces 15+ mm in front of the frame's background
   double sum_abs_error = 0.0;  ///< sum of |depth error| over points with ground-truth depth, m
   double max_abs_error = 0.0;  ///< m
   int with_depth = 0;          ///< points that have a ground-truth depth
@@ -44,9 +44,10 @@ struct EvalStats
  *
  * A primitive is visible when the camera pixels lit by its box number at least 80% of the median
  * count of all lit primitives and their depths lie within 2% (at least 10 mm) of each other: the
- * camera sees it whole, on one surface (not cut by the image border, an occlusion or a corner). A point is wrong when the ground-truth projector coordinates around its
- * centroid (within 1.5 px) are lit but none lies in the box (with a 1 px margin) of the decoded
- * primitive. The depth error compares the point's z with the ground-truth depth at its centroid.
+ * camera sees it whole, on one surface (not cut by the image border, an occlusion or a corner). A point is wrong when
+ * the ground-truth projector coordinates around its centroid (within 1.5 px) are lit but none lies in the box (with a 1
+ * px margin) of the decoded primitive. The depth error compares the point's z with the ground-truth depth at its
+ * centroid.
  */
 EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_sim::RenderOutput& truth,
                         const sl_decoder::DecodeResult& result);
@@ -54,9 +55,9 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_sim::Rend
 /// @brief One evaluated scene of sl_eval.
 struct SceneReport
 {
-  std::string scene;   ///< scene file stem
-  std::string model;   ///< depth model
-  EvalStats stats;     ///< summed over the frames
+  std::string scene;  ///< scene file stem
+  std::string model;  ///< depth model
+  EvalStats stats;    ///< summed over the frames
 };
 
 /**

@@ -237,9 +237,10 @@ int main(int argc, char** argv)
                   compareRigs(cal, rig).summary().c_str());
       const sl_sim::RenderOutput& at700 = sim.renderWall(wall, 0.7, plane_options, 9000 + seed);
       const DepthAgreement agree = compareDepth(cal, rig, at700.image);
-      std::printf("depth (triangulation) from %s vs the true rig on the wall at 0.700 m: mean |difference| %.3f mm, "
-                  "max %.3f mm over %d primitives\n",
-                  calibration.c_str(), agree.mean_mm, agree.max_mm, agree.points);
+      std::printf(
+          "depth (triangulation) from %s vs the true rig on the wall at 0.700 m: mean |difference| %.3f mm, "
+          "max %.3f mm over %d primitives\n",
+          calibration.c_str(), agree.mean_mm, agree.max_mm, agree.points);
       return 0;
     }
     throw std::invalid_argument("unknown command '" + command + "' (render or evaluate)");

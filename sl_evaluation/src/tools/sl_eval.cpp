@@ -171,8 +171,8 @@ int main(int argc, char** argv)
         const sl_evaluation::EvalStats& s = r.stats;
         std::printf("%-26s %-13s %7.1f %7.1f %6.1f %6d %9.2f %8.2f %8.1f\n", r.scene.c_str(), r.model.c_str(),
                     static_cast<double>(s.visible) / s.frames, s.validPercent(),
-                    static_cast<double>(s.valid - s.valid_visible) / s.frames, s.wrong, s.meanErrorMm(),
-                    s.maxErrorMm(), static_cast<double>(s.near_points) / s.frames);
+                    static_cast<double>(s.valid - s.valid_visible) / s.frames, s.wrong, s.meanErrorMm(), s.maxErrorMm(),
+                    static_cast<double>(s.near_points) / s.frames);
         if (model == sl_decoder::DepthMode::Triangulation)
           total.add(s);
       }

@@ -1,7 +1,6 @@
 /// @file decision_maker.h
 /// @brief Driving decisions from the working-volume analysis: drive, slow, stop, turn, stale.
-#ifndef SL_OBSTACLE_DECISION_MAKER_H
-#define SL_OBSTACLE_DECISION_MAKER_H
+#pragma once
 
 #include <cstdint>
 #include <limits>
@@ -107,10 +106,10 @@ struct FrameSummary
 {
   double stamp = 0.0;  ///< capture time of the cloud (s, same clock as step()'s now)
   double nearest_obstacle = std::numeric_limits<double>::infinity();  ///< m
-  double free_distance = 0.0;  ///< m, includes unknown space (see VolumeResult)
-  double coverage = 0.0;       ///< 0..1
-  double left_free = 0.0;      ///< mean free distance left of centre (m); from a map: best heading to the left
-  double right_free = 0.0;     ///< mean free distance right of centre (m); from a map: best heading to the right
+  double free_distance = 0.0;                                         ///< m, includes unknown space (see VolumeResult)
+  double coverage = 0.0;                                              ///< 0..1
+  double left_free = 0.0;   ///< mean free distance left of centre (m); from a map: best heading to the left
+  double right_free = 0.0;  ///< mean free distance right of centre (m); from a map: best heading to the right
   // Filled when the summary comes from the local map (WorldModel) at the robot's current pose.
   bool from_map = false;           ///< free_distance is the map's known-free travel: no coverage gating
   double reverse_free = 0.0;       ///< known-free travel straight back (m)
@@ -126,12 +125,12 @@ FrameSummary summarize(const VolumeResult& result, double stamp);
 /// What the robot is doing, as known to the caller (driver feedback or the open-loop runner).
 struct MotionState
 {
-  bool driver_ready = true;     ///< the motion interface can take goals
-  const char* driver_detail = "";  ///< why it cannot (a string literal; shown in the reason)
-  bool goal_active = false;     ///< a forward goal is running
-  double goal_remaining = 0.0;  ///< distance still to drive of that goal (m)
-  double goal_speed = 0.0;      ///< its speed (m/s)
-  bool localized = true;        ///< the robot's current pose is known (needed by map decisions)
+  bool driver_ready = true;              ///< the motion interface can take goals
+  const char* driver_detail = "";        ///< why it cannot (a string literal; shown in the reason)
+  bool goal_active = false;              ///< a forward goal is running
+  double goal_remaining = 0.0;           ///< distance still to drive of that goal (m)
+  double goal_speed = 0.0;               ///< its speed (m/s)
+  bool localized = true;                 ///< the robot's current pose is known (needed by map decisions)
   const char* localization_detail = "";  ///< why it is not (a string literal; shown in the reason)
 };
 
@@ -140,12 +139,12 @@ struct Decision
 {
   State state = State::STALE;
   Reason reason = Reason::NO_DATA;
-  std::string text;              ///< human-readable reason with the numbers
+  std::string text;  ///< human-readable reason with the numbers
   Command command = Command::STOP;
-  double distance = 0.0;         ///< DRIVE: goal distance (m); negative: backwards (a back-off)
-  double speed = 0.0;            ///< DRIVE: goal speed (m/s)
-  double angular_speed = 0.0;    ///< TURN: rate (rad/s), positive = left
-  bool blocked = false;          ///< the way ahead is blocked (BLOCKED, TURNING, no free direction)
+  double distance = 0.0;       ///< DRIVE: goal distance (m); negative: backwards (a back-off)
+  double speed = 0.0;          ///< DRIVE: goal speed (m/s)
+  double angular_speed = 0.0;  ///< TURN: rate (rad/s), positive = left
+  bool blocked = false;        ///< the way ahead is blocked (BLOCKED, TURNING, no free direction)
 };
 
 /// State machine that turns frame summaries and motion feedback into commands.
@@ -254,5 +253,3 @@ private:
   std::string cycle_text_;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_DECISION_MAKER_H

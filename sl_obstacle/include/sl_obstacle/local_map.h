@@ -2,8 +2,7 @@
 /// @brief The rolling 2.5D local map in odom: log-odds height slices per cell, decay to unknown.
 ///
 /// See doc/world_model.md, section 2. ROS-free; time is seconds on the caller's one clock.
-#ifndef SL_OBSTACLE_LOCAL_MAP_H
-#define SL_OBSTACLE_LOCAL_MAP_H
+#pragma once
 
 #include <cstddef>
 #include <cstdint>
@@ -67,9 +66,9 @@ struct MapRay
 /// State of a cell (all its slices together). Unknown is never free.
 enum class CellState : std::uint8_t
 {
-  Unknown,   ///< neither occupied nor free
-  Free,      ///< every slice below free_threshold
-  Occupied   ///< some slice above occupied_threshold
+  Unknown,  ///< neither occupied nor free
+  Free,     ///< every slice below free_threshold
+  Occupied  ///< some slice above occupied_threshold
 };
 
 /// Rolling 2.5D occupancy grid in odom (x, y in metres, z up), centred on the robot.
@@ -135,8 +134,7 @@ public:
   /// @param origin_x x of the window's lower left corner (m, odom)
   /// @param origin_y y of the window's lower left corner (m, odom)
   /// @param width    cells per side (N); the resolution is params().resolution
-  void toOccupancy(double now, std::vector<std::int8_t>& data, double& origin_x, double& origin_y,
-                   int& width) const;
+  void toOccupancy(double now, std::vector<std::int8_t>& data, double& origin_x, double& origin_y, int& width) const;
 
   /// Forgets everything (all unknown); the window stays where it is.
   void clear();
@@ -189,24 +187,24 @@ private:
   {
     std::uint8_t x0, y0, x1, y1;
   };
-  static constexpr Extent kNoExtent = { 255, 255, 0, 0 };  ///< empty box: no hit
+  static constexpr Extent kNoExtent = { 255, 255, 0, 0 };    ///< empty box: no hit
   static constexpr Extent kFullExtent = { 0, 0, 255, 255 };  ///< the whole cell (a bump)
   /// Forgets the ring column (slot x) @p rx or row (slot y) @p ry.
   void clearColumn(int rx);
   void clearRow(int ry);
 
   MapParams params_;
-  int n_ = 0;                 // cells per side
+  int n_ = 0;  // cells per side
   int slices_ = 1;
   double inv_res_ = 50.0;
   double slice_height_ = 0.1;
-  int ox_ = 0;                // global index of the window's lower left cell
+  int ox_ = 0;  // global index of the window's lower left cell
   int oy_ = 0;
-  int ring_x_ = 0;            // its ring-buffer slot: ox_ mod N, oy_ mod N
+  int ring_x_ = 0;  // its ring-buffer slot: ox_ mod N, oy_ mod N
   int ring_y_ = 0;
-  std::vector<float> logodds_;    // slot * slices + slice
-  std::vector<double> updated_;   // per slot: time of the last update (-inf: never)
-  std::vector<Extent> extent_;    // per slot: box around its hits while it holds positive evidence
+  std::vector<float> logodds_;   // slot * slices + slice
+  std::vector<double> updated_;  // per slot: time of the last update (-inf: never)
+  std::vector<Extent> extent_;   // per slot: box around its hits while it holds positive evidence
   // Batch bookkeeping (per voxel = slot * slices + slice); flags_ is all zero between batches.
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> touched_;  // voxels flagged in the current batch (sized for all)
@@ -214,5 +212,3 @@ private:
   std::size_t invalid_rays_ = 0;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_LOCAL_MAP_H

@@ -1,7 +1,6 @@
 /// @file noise_filter.h
 /// @brief Rejects stray points in the box: minimum cluster size and persistence over frames.
-#ifndef SL_OBSTACLE_NOISE_FILTER_H
-#define SL_OBSTACLE_NOISE_FILTER_H
+#pragma once
 
 #include <cstddef>
 #include <cstdint>
@@ -97,5 +96,3 @@ private:
   NoiseStats stats_;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_NOISE_FILTER_H

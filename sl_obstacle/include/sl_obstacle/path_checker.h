@@ -1,7 +1,6 @@
 /// @file path_checker.h
 /// @brief Swept-footprint checks of a disc robot on the LocalMap (doc/world_model.md, section 3).
-#ifndef SL_OBSTACLE_PATH_CHECKER_H
-#define SL_OBSTACLE_PATH_CHECKER_H
+#pragma once
 
 #include <limits>
 
@@ -59,8 +58,8 @@ struct PathResult
 /// @param now        time of the map's clock (s), for the decay
 /// @throws std::invalid_argument for direction other than +-1, a non-finite pose or a negative or
 ///         non-finite max_distance
-PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw,
-                         int direction, double max_distance, double now);
+PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, int direction,
+                         double max_distance, double now);
 
 /// Result of bestHeading().
 struct HeadingChoice
@@ -74,8 +73,6 @@ struct HeadingChoice
 /// Headings whose free distance is within one map cell of the best count as equally good; among
 /// them the smallest |turn| wins, and of +k and -k the left (+k) one.
 /// @throws std::invalid_argument for n < 0, a non-finite step, or what sweepStraight() rejects
-HeadingChoice bestHeading(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw,
-                          double step, int n, double max_distance, double now);
+HeadingChoice bestHeading(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, double step,
+                          int n, double max_distance, double now);
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_PATH_CHECKER_H

@@ -1,7 +1,6 @@
 /// @file point.h
 /// @brief The point type the core library works on.
-#ifndef SL_OBSTACLE_POINT_H
-#define SL_OBSTACLE_POINT_H
+#pragma once
 
 namespace sl_obstacle
 {
@@ -26,5 +25,3 @@ inline Point makePoint(float x, float y, float z, float confidence = 1.0F)
   return p;
 }
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_POINT_H

@@ -1,8 +1,7 @@
 /// @file safety_filter.h
 /// @brief Limits a velocity command (teleoperation or any planner) to what stops before obstacles
 /// and unknown space on its arc: v <= sqrt(2 a d) (doc/world_model.md, section 4). ROS-free.
-#ifndef SL_OBSTACLE_SAFETY_FILTER_H
-#define SL_OBSTACLE_SAFETY_FILTER_H
+#pragma once
 
 #include <cstdint>
 #include <limits>
@@ -32,12 +31,12 @@ struct Velocity
 /// Parameters of the safety filter. validate() names the ROS parameter of a bad value.
 struct FilterParams
 {
-  FootprintParams footprint;  ///< the robot's disc and the lateral margin of its swept path
-  double clearance = 0.15;    ///< m kept between the disc and obstacles or unknown space (safety_margin)
-  double deceleration = 0.25; ///< a in v <= sqrt(2 a d) (m/s^2); 0: stop only at d = 0
-  double horizon = 1.5;       ///< m, the longest arc checked (check_distance)
-  double input_timeout = 0.5; ///< s without a command before the robot stops
-  double stale_timeout = 0.5; ///< s without a fresh cloud before forward motion stops
+  FootprintParams footprint;   ///< the robot's disc and the lateral margin of its swept path
+  double clearance = 0.15;     ///< m kept between the disc and obstacles or unknown space (safety_margin)
+  double deceleration = 0.25;  ///< a in v <= sqrt(2 a d) (m/s^2); 0: stop only at d = 0
+  double horizon = 1.5;        ///< m, the longest arc checked (check_distance)
+  double input_timeout = 0.5;  ///< s without a command before the robot stops
+  double stale_timeout = 0.5;  ///< s without a fresh cloud before forward motion stops
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
   std::string validate() const;
@@ -85,17 +84,16 @@ ArcResult sweepArc(const LocalMap& map, double radius, const Pose2D& pose, int d
  * geometry of two circles. A point already under the disc counts as contact at 0 if it lies ahead
  * of the motion, and is ignored if the motion leaves it. +inf if none within @p length.
  */
-double arcContact(const std::vector<Point2>& points, double radius, int direction, double curvature,
-                  double length);
+double arcContact(const std::vector<Point2>& points, double radius, int direction, double curvature, double length);
 
 /// What the filter knows at one step.
 struct FilterInput
 {
-  double now = 0.0;            ///< s
-  Velocity command;            ///< the requested command
+  double now = 0.0;                                                ///< s
+  Velocity command;                                                ///< the requested command
   double command_time = -std::numeric_limits<double>::infinity();  ///< s, when it was given
-  bool localized = false;      ///< pose is the robot's current pose
-  Pose2D pose;                 ///< base_link in the map's frame, now
+  bool localized = false;                                          ///< pose is the robot's current pose
+  Pose2D pose;                                                     ///< base_link in the map's frame, now
   double cloud_time = -std::numeric_limits<double>::infinity();    ///< s, capture time of the newest cloud
   /// The newest cloud's obstacle points in the robot's frame now (exact distances; may be empty).
   const std::vector<Point2>* obstacles = nullptr;
@@ -104,13 +102,13 @@ struct FilterInput
 /// The filter's answer.
 struct FilterOutput
 {
-  Velocity command;            ///< what to send to the driver
+  Velocity command;  ///< what to send to the driver
   FilterReason reason = FilterReason::INPUT_TIMEOUT;
-  double scale = 0.0;          ///< |output linear| / |requested linear| (1 when nothing moves forward)
-  double travel = 0.0;         ///< m: known-free travel on the output's arc less the clearance
-  double speed_limit = 0.0;    ///< m/s: sqrt(2 a travel) (inf with a = 0 and travel > 0)
-  double curvature = 0.0;      ///< rad/m of the output's arc (0 for a straight line or no motion)
-  std::string text;            ///< a sentence with the numbers
+  double scale = 0.0;        ///< |output linear| / |requested linear| (1 when nothing moves forward)
+  double travel = 0.0;       ///< m: known-free travel on the output's arc less the clearance
+  double speed_limit = 0.0;  ///< m/s: sqrt(2 a travel) (inf with a = 0 and travel > 0)
+  double curvature = 0.0;    ///< rad/m of the output's arc (0 for a straight line or no motion)
+  std::string text;          ///< a sentence with the numbers
 };
 
 /**
@@ -147,5 +145,3 @@ private:
   FilterParams params_;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_SAFETY_FILTER_H

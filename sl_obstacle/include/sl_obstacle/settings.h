@@ -1,7 +1,6 @@
 /// @file settings.h
 /// @brief All parameters of the obstacle pipeline, validated together.
-#ifndef SL_OBSTACLE_SETTINGS_H
-#define SL_OBSTACLE_SETTINGS_H
+#pragma once
 
 #include <string>
 
@@ -15,15 +14,13 @@ namespace sl_obstacle
 /// Analysis and decision parameters; validate() also checks the relations between the two.
 struct Settings
 {
-  CheckerParams checker;    ///< working volume, coverage, noise rejection
-  DecisionParams decision;  ///< margins, speeds, turning, staleness
-  WorldParams world;        ///< local map and path checks (its height band is the volume's)
-  FilterParams filter;      ///< safety filter for cmd_vel_in (footprint, margin, timeouts shared)
-  double teleop_hold = 2.0; ///< s a command on cmd_vel_in takes over from autonomy
+  CheckerParams checker;     ///< working volume, coverage, noise rejection
+  DecisionParams decision;   ///< margins, speeds, turning, staleness
+  WorldParams world;         ///< local map and path checks (its height band is the volume's)
+  FilterParams filter;       ///< safety filter for cmd_vel_in (footprint, margin, timeouts shared)
+  double teleop_hold = 2.0;  ///< s a command on cmd_vel_in takes over from autonomy
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
   std::string validate() const;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_SETTINGS_H

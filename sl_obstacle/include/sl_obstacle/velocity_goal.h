@@ -1,15 +1,14 @@
 /// @file velocity_goal.h
 /// @brief Open-loop distance goal for the cmd_vel command mode.
-#ifndef SL_OBSTACLE_VELOCITY_GOAL_H
-#define SL_OBSTACLE_VELOCITY_GOAL_H
+#pragma once
 
 #include <cmath>
 
 namespace sl_obstacle
 {
-/// Runs a distance goal (forward, or backwards for a negative distance) as a constant velocity command, estimating the distance travelled by
-/// integrating the commanded speed (open loop: the real robot accelerates, so it travels less than
-/// estimated, which errs on the safe side).
+/// Runs a distance goal (forward, or backwards for a negative distance) as a constant velocity command, estimating the
+/// distance travelled by integrating the commanded speed (open loop: the real robot accelerates, so it travels less
+/// than estimated, which errs on the safe side).
 class VelocityGoal
 {
 public:
@@ -27,7 +26,10 @@ public:
   /// True while a goal runs.
   bool active() const { return active_; }
   /// Distance still to go (m, signed like the goal).
-  double remaining() const { return active_ ? (distance_ < 0.0 ? -1.0 : 1.0) * (std::abs(distance_) - travelled_) : 0.0; }
+  double remaining() const
+  {
+    return active_ ? (distance_ < 0.0 ? -1.0 : 1.0) * (std::abs(distance_) - travelled_) : 0.0;
+  }
   /// Estimated distance travelled since start (m, unsigned).
   double travelled() const { return travelled_; }
   /// Speed to command now (m/s, unsigned; 0 when no goal runs).
@@ -43,5 +45,3 @@ private:
   double last_ = 0.0;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_VELOCITY_GOAL_H

@@ -1,7 +1,6 @@
 /// @file volume_checker.h
 /// @brief Per-frame working-volume analysis: obstacles, free distance per sector, coverage.
-#ifndef SL_OBSTACLE_VOLUME_CHECKER_H
-#define SL_OBSTACLE_VOLUME_CHECKER_H
+#pragma once
 
 #include <cstddef>
 #include <cstdint>
@@ -17,11 +16,11 @@ namespace sl_obstacle
 /// Parameters of the analysis.
 struct CheckerParams
 {
-  WorkingVolume volume;       ///< box geometry and sensor range
-  int sectors = 5;            ///< lateral sectors across the width (index 0 at -y, the right)
-  double cell_size = 0.02;    ///< edge of the square coverage cells on the window (m)
+  WorkingVolume volume;         ///< box geometry and sensor range
+  int sectors = 5;              ///< lateral sectors across the width (index 0 at -y, the right)
+  double cell_size = 0.02;      ///< edge of the square coverage cells on the window (m)
   double min_confidence = 0.0;  ///< points with lower (or NaN) confidence are ignored
-  NoiseFilterParams noise;    ///< stray-point rejection
+  NoiseFilterParams noise;      ///< stray-point rejection
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
   std::string validate() const;
@@ -44,32 +43,32 @@ struct SectorResult
 /// Everything the analysis found in one frame. Vectors keep their capacity between frames.
 struct VolumeResult
 {
-  std::uint32_t total_points = 0;          ///< points given
-  std::uint32_t invalid_points = 0;        ///< NaN or infinite coordinates
-  std::uint32_t low_confidence_points = 0; ///< confidence below min_confidence (or NaN)
-  std::uint32_t out_of_range_points = 0;   ///< x <= 0 (behind the front edge) or x > max_range
-  std::uint32_t floor_points = 0;          ///< valid points with z < floor_margin
-  std::uint32_t in_box_points = 0;         ///< valid points inside the box (before noise rejection)
-  std::uint32_t obstacle_points = 0;       ///< in-box points accepted as obstacles
-  std::uint32_t rejected_points = 0;       ///< in-box points rejected as noise
+  std::uint32_t total_points = 0;           ///< points given
+  std::uint32_t invalid_points = 0;         ///< NaN or infinite coordinates
+  std::uint32_t low_confidence_points = 0;  ///< confidence below min_confidence (or NaN)
+  std::uint32_t out_of_range_points = 0;    ///< x <= 0 (behind the front edge) or x > max_range
+  std::uint32_t floor_points = 0;           ///< valid points with z < floor_margin
+  std::uint32_t in_box_points = 0;          ///< valid points inside the box (before noise rejection)
+  std::uint32_t obstacle_points = 0;        ///< in-box points accepted as obstacles
+  std::uint32_t rejected_points = 0;        ///< in-box points rejected as noise
 
   std::vector<std::uint32_t> in_box_indices;    ///< indices of the in-box points
   std::vector<std::uint32_t> obstacle_indices;  ///< indices of the accepted obstacle points
 
-  double nearest_distance = 0.0;  ///< x of the nearest obstacle point, +inf if none (m)
+  double nearest_distance = 0.0;    ///< x of the nearest obstacle point, +inf if none (m)
   std::int64_t nearest_index = -1;  ///< its index in the input, -1 if none
-  Point nearest_point;            ///< the point itself (zero if none)
+  Point nearest_point;              ///< the point itself (zero if none)
 
   std::vector<SectorResult> sectors;  ///< one per lateral sector, right (-y) to left (+y)
   double free_distance = 0.0;         ///< min over sectors of SectorResult::free_distance (m)
-  double left_free = 0.0;   ///< mean free distance of the sectors left of the centre line (m)
-  double right_free = 0.0;  ///< mean free distance of the sectors right of the centre line (m)
+  double left_free = 0.0;             ///< mean free distance of the sectors left of the centre line (m)
+  double right_free = 0.0;            ///< mean free distance of the sectors right of the centre line (m)
 
-  int grid_cols = 0;                  ///< coverage grid columns (along y, from -W/2)
-  int grid_rows = 0;                  ///< coverage grid rows (along z, from the floor)
+  int grid_cols = 0;                        ///< coverage grid columns (along y, from -W/2)
+  int grid_rows = 0;                        ///< coverage grid rows (along z, from the floor)
   std::vector<std::uint8_t> cell_measured;  ///< row-major grid, 1 when the cell was measured
-  std::uint32_t measured_cells = 0;   ///< cells with at least one valid point
-  double coverage = 0.0;              ///< measured_cells / (grid_cols * grid_rows), 0..1
+  std::uint32_t measured_cells = 0;         ///< cells with at least one valid point
+  double coverage = 0.0;                    ///< measured_cells / (grid_cols * grid_rows), 0..1
 
   NoiseStats noise;  ///< what the noise filter did
 };
@@ -104,10 +103,7 @@ public:
   const VolumeResult& analyze(const Point* points, std::size_t count);
 
   /// Convenience overload.
-  const VolumeResult& analyze(const std::vector<Point>& points)
-  {
-    return analyze(points.data(), points.size());
-  }
+  const VolumeResult& analyze(const std::vector<Point>& points) { return analyze(points.data(), points.size()); }
 
   /// The result of the last analyze() call.
   const VolumeResult& result() const { return result_; }
@@ -121,5 +117,3 @@ private:
   VolumeResult result_;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_VOLUME_CHECKER_H

@@ -1,7 +1,6 @@
 /// @file working_volume.h
 /// @brief The box the robot sweeps when it drives forward, and the sensor range.
-#ifndef SL_OBSTACLE_WORKING_VOLUME_H
-#define SL_OBSTACLE_WORKING_VOLUME_H
+#pragma once
 
 #include <string>
 
@@ -17,11 +16,11 @@ namespace sl_obstacle
 /// robot; coverage is measured on it.
 struct WorkingVolume
 {
-  double width = 0.331;        ///< W: lateral extent, centred on y = 0 (m)
-  double height = 0.173;       ///< H: top of the box above the floor (m)
-  double depth = 0.8;          ///< B: pass-through depth, extent of the box along x (m)
-  double floor_margin = 0.015; ///< points below this height are floor (m)
-  double max_range = 1.0;      ///< points farther than this along x are ignored (m)
+  double width = 0.331;         ///< W: lateral extent, centred on y = 0 (m)
+  double height = 0.173;        ///< H: top of the box above the floor (m)
+  double depth = 0.8;           ///< B: pass-through depth, extent of the box along x (m)
+  double floor_margin = 0.015;  ///< points below this height are floor (m)
+  double max_range = 1.0;       ///< points farther than this along x are ignored (m)
 
   /// Checks the values. @return an empty string when valid, otherwise a message that starts with the
   /// name of the offending parameter (e.g. "width must be > 0 (got -0.1)").
@@ -34,5 +33,3 @@ struct WorkingVolume
   bool inWindow(const Point& p) const;
 };
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_WORKING_VOLUME_H

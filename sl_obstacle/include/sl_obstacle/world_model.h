@@ -2,8 +2,7 @@
 /// @brief The obstacle node's memory: a rolling LocalMap fed with the decoder's rays, the robot's
 /// trail, bumps, and what the map says about the paths open to the robot at its current pose
 /// (ROS-free).
-#ifndef SL_OBSTACLE_WORLD_MODEL_H
-#define SL_OBSTACLE_WORLD_MODEL_H
+#pragma once
 
 #include <cstdint>
 #include <limits>
@@ -44,18 +43,18 @@ struct WorldParams
 /// @brief What the map says at the robot's current pose. Distances are travel of base_link, m.
 struct MapSummary
 {
-  double free = 0.0;              ///< straight ahead: known-free travel (see PathResult::free)
+  double free = 0.0;  ///< straight ahead: known-free travel (see PathResult::free)
   double obstacle = std::numeric_limits<double>::infinity();  ///< straight ahead: travel until the robot's disc
                                                               ///< (without the lateral margin) reaches an occupied cell
   double unknown = std::numeric_limits<double>::infinity();   ///< straight ahead: travel to an unknown cell
-  double known_fraction = 0.0;    ///< straight ahead: share of the swept cells that are known
-  double reverse_free = 0.0;      ///< straight back: known-free travel
-  double best_turn = 0.0;         ///< rad: relative heading with the longest known-free travel
-  double best_turn_free = 0.0;    ///< its known-free travel
-  double left_free = 0.0;         ///< longest known-free travel among the headings to the left
-  double right_free = 0.0;        ///< ... and to the right
-  double best_reverse_turn = 0.0; ///< rad: relative heading whose reverse path is free the farthest
-  double best_reverse_free = 0.0; ///< its known-free reverse travel
+  double known_fraction = 0.0;     ///< straight ahead: share of the swept cells that are known
+  double reverse_free = 0.0;       ///< straight back: known-free travel
+  double best_turn = 0.0;          ///< rad: relative heading with the longest known-free travel
+  double best_turn_free = 0.0;     ///< its known-free travel
+  double left_free = 0.0;          ///< longest known-free travel among the headings to the left
+  double right_free = 0.0;         ///< ... and to the right
+  double best_reverse_turn = 0.0;  ///< rad: relative heading whose reverse path is free the farthest
+  double best_reverse_free = 0.0;  ///< its known-free reverse travel
 };
 
 /**
@@ -120,5 +119,3 @@ FrameSummary withMap(FrameSummary cloud, const MapSummary& map, double tolerance
  */
 double contactTravel(const std::vector<Point>& points, const std::vector<std::uint32_t>& indices, double radius);
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_WORLD_MODEL_H

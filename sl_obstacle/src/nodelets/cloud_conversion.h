@@ -1,6 +1,5 @@
 // Reads a sensor_msgs/PointCloud2 into the core's points, applying a rigid transform.
-#ifndef SL_OBSTACLE_NODELETS_CLOUD_CONVERSION_H
-#define SL_OBSTACLE_NODELETS_CLOUD_CONVERSION_H
+#pragma once
 
 #include <string>
 #include <vector>
@@ -32,5 +31,3 @@ constexpr std::uint8_t kRayDecoded = 0, kRayFloor = 1, kRayDark = 2, kRayLit = 3
 std::string appendRays(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform, bool ray_ends,
                        std::vector<MapRay>& rays);
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_NODELETS_CLOUD_CONVERSION_H

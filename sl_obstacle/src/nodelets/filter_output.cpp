@@ -18,12 +18,30 @@ void stateOf(const FilterOutput& out, std::uint8_t& state, std::uint8_t& reason)
       reason = S::REASON_PASSED;
       state = out.command.linear != 0.0 ? S::DRIVING : (out.command.angular != 0.0 ? S::TURNING : S::STOPPED);
       return;
-    case FilterReason::LIMITED: state = S::SLOWING; reason = S::REASON_LIMITED; return;
-    case FilterReason::STOPPED_OBSTACLE: state = S::BLOCKED; reason = S::REASON_STOPPED_OBSTACLE; return;
-    case FilterReason::INPUT_TIMEOUT: state = S::STOPPED; reason = S::REASON_INPUT_TIMEOUT; return;
-    case FilterReason::STALE_DATA: state = S::STALE; reason = S::REASON_STALE_DATA; return;
-    case FilterReason::NO_ODOMETRY: state = S::STOPPED; reason = S::REASON_NO_ODOMETRY; return;
-    case FilterReason::INVALID_COMMAND: state = S::STOPPED; reason = S::REASON_INVALID_COMMAND; return;
+    case FilterReason::LIMITED:
+      state = S::SLOWING;
+      reason = S::REASON_LIMITED;
+      return;
+    case FilterReason::STOPPED_OBSTACLE:
+      state = S::BLOCKED;
+      reason = S::REASON_STOPPED_OBSTACLE;
+      return;
+    case FilterReason::INPUT_TIMEOUT:
+      state = S::STOPPED;
+      reason = S::REASON_INPUT_TIMEOUT;
+      return;
+    case FilterReason::STALE_DATA:
+      state = S::STALE;
+      reason = S::REASON_STALE_DATA;
+      return;
+    case FilterReason::NO_ODOMETRY:
+      state = S::STOPPED;
+      reason = S::REASON_NO_ODOMETRY;
+      return;
+    case FilterReason::INVALID_COMMAND:
+      state = S::STOPPED;
+      reason = S::REASON_INVALID_COMMAND;
+      return;
   }
 }
 }  // namespace
@@ -46,7 +64,8 @@ void fillFilterStatus(const FilterOutput& out, const Velocity& input, ObstacleSt
   s.input_linear = input.linear;
   s.input_angular = input.angular;
   s.command_scale = out.scale;
-  s.command = out.command.linear != 0.0 ? S::COMMAND_DRIVE : (out.command.angular != 0.0 ? S::COMMAND_TURN : S::COMMAND_STOP);
+  s.command =
+      out.command.linear != 0.0 ? S::COMMAND_DRIVE : (out.command.angular != 0.0 ? S::COMMAND_TURN : S::COMMAND_STOP);
   s.command_speed = out.command.linear;
   s.command_angular_speed = out.command.angular;
   s.command_distance = out.travel;
@@ -68,7 +87,8 @@ void footprintMarker(const FilterOutput& out, const Pose2D& pose, double radius,
   const double c = std::cos(pose.yaw);
   const double s = std::sin(pose.yaw);
   // The disc centre after travel t along the output's arc, in the map frame.
-  const auto at = [&](double t) {
+  const auto at = [&](double t)
+  {
     const double k = out.curvature;
     const double lx = std::abs(k) < 1e-9 ? direction * t : direction * std::sin(k * t) / k;
     const double ly = std::abs(k) < 1e-9 ? 0.0 : direction * (1.0 - std::cos(k * t)) / k;

@@ -1,6 +1,5 @@
 // ROS messages of the safety filter: the status fields and the predicted footprint marker.
-#ifndef SL_OBSTACLE_NODELETS_FILTER_OUTPUT_H
-#define SL_OBSTACLE_NODELETS_FILTER_OUTPUT_H
+#pragma once
 
 #include <visualization_msgs/Marker.h>
 
@@ -21,5 +20,3 @@ void fillFilterStatus(const FilterOutput& out, const Velocity& input, ObstacleSt
 /// in the frame of @p pose (the map's). Header, namespace and id are left to the caller.
 void footprintMarker(const FilterOutput& out, const Pose2D& pose, double radius, visualization_msgs::Marker& marker);
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_NODELETS_FILTER_OUTPUT_H

@@ -152,7 +152,7 @@ private:
   bool have_command_ = false;
   ros::Time teleop_until_;
   bool teleop_active_ = false;
-  std::vector<Point2> obstacles_edge_;   // the latest cloud's accepted obstacle points in ~target_frame
+  std::vector<Point2> obstacles_edge_;  // the latest cloud's accepted obstacle points in ~target_frame
   ros::Time obstacles_stamp_;
   bool obstacles_pending_ = false;       // obstacles_edge_ not yet in odom (tf not there yet)
   std::vector<Point2> obstacles_odom_;   // the latest resolved cloud's obstacle points in odom
@@ -204,8 +204,8 @@ void ObstacleNodelet::onInit()
   cloud_sub_->registerCallback(&ObstacleNodelet::onCloud, this);
   tf_filter_ = std::make_unique<tf2_ros::MessageFilter<Cloud>>(*tf_buffer_, params_.target_frame, 5, nh_);
   tf_filter_->registerCallback(&ObstacleNodelet::processCloud, this);
-  tf_filter_->registerFailureCallback(
-      [this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason) { onFilterFailure(cloud, reason); });
+  tf_filter_->registerFailureCallback([this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason)
+                                      { onFilterFailure(cloud, reason); });
 
   if (params_.settings.world.enabled)
   {
@@ -215,8 +215,8 @@ void ObstacleNodelet::onInit()
     rays_sub_ = std::make_unique<message_filters::Subscriber<Cloud>>(nh_, "ray_ends", 2);
     rays_filter_ = std::make_unique<tf2_ros::MessageFilter<Cloud>>(*rays_sub_, *tf_buffer_, params_.odom_frame, 5, nh_);
     rays_filter_->registerCallback(&ObstacleNodelet::onRays, this);
-    rays_filter_->registerFailureCallback(
-        [this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason) { onFilterFailure(cloud, reason); });
+    rays_filter_->registerFailureCallback([this](const Cloud::ConstPtr& cloud, tf2_ros::FilterFailureReason reason)
+                                          { onFilterFailure(cloud, reason); });
     filter_ = std::make_unique<SafetyFilter>(params_.settings.filter);
     command_sub_ = nh_.subscribe("cmd_vel_in", 1, &ObstacleNodelet::onCommand, this);
     stamped_command_sub_ = nh_.subscribe("cmd_vel_in_stamped", 1, &ObstacleNodelet::onStampedCommand, this);
@@ -296,9 +296,9 @@ void ObstacleNodelet::onFilterFailure(const Cloud::ConstPtr& cloud, tf2_ros::Fil
 {
   NODELET_WARN_THROTTLE(2.0, "dropping cloud in frame '%s' at %.3f: no transform to '%s' (%s)",
                         cloud->header.frame_id.c_str(), cloud->header.stamp.toSec(), params_.target_frame.c_str(),
-                        reason == tf2_ros::filter_failure_reasons::OutTheBack ? "older than the tf buffer"
+                        reason == tf2_ros::filter_failure_reasons::OutTheBack     ? "older than the tf buffer"
                         : reason == tf2_ros::filter_failure_reasons::EmptyFrameID ? "empty frame_id"
-                                                                                   : "transform unavailable");
+                                                                                  : "transform unavailable");
 }
 
 void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
@@ -310,8 +310,8 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   {
     try
     {
-      transform = tf_buffer_->lookupTransform(params_.target_frame, cloud->header.frame_id, cloud->header.stamp)
-                      .transform;
+      transform =
+          tf_buffer_->lookupTransform(params_.target_frame, cloud->header.frame_id, cloud->header.stamp).transform;
     }
     catch (const tf2::TransformException& e)
     {
@@ -325,8 +325,7 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
     NODELET_ERROR_THROTTLE(2.0, "dropping cloud in frame '%s': %s", cloud->header.frame_id.c_str(), e.c_str());
     return;
   }
-  if (have_frame_ &&
-      (cloud->header.stamp - last_cloud_stamp_).toSec() > params_.settings.decision.stale_timeout)
+  if (have_frame_ && (cloud->header.stamp - last_cloud_stamp_).toSec() > params_.settings.decision.stale_timeout)
   {
     checker_->reset();  // after a gap the persistence history means nothing
   }
@@ -658,9 +657,9 @@ void ObstacleNodelet::decide(const ros::Time& now)
     {
       cloud.nearest_obstacle = cloud_contact_;  // the map keeps the clearance on the disc's travel
     }
-    decider_->onFrame(world_ ? withMap(cloud, world_->summarize(pose_, now.toSec()),
-                                       3.0 * params_.settings.world.map.resolution)
-                               : cloud);
+    decider_->onFrame(
+        world_ ? withMap(cloud, world_->summarize(pose_, now.toSec()), 3.0 * params_.settings.world.map.resolution)
+               : cloud);
   }
   const Decision& d = decider_->step(now.toSec(), motion());
   execute(d, now);
@@ -723,7 +722,8 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
   goal_speed_ = speed;
   client_->sendGoal(
       goal,
-      [this, seq](const actionlib::SimpleClientGoalState& state, const sl_msgs::DriveDistanceResultConstPtr& r) {
+      [this, seq](const actionlib::SimpleClientGoalState& state, const sl_msgs::DriveDistanceResultConstPtr& r)
+      {
         std::lock_guard<std::recursive_mutex> lock(mutex_);
         if (seq != goal_seq_ || !goal_active_)
         {
@@ -737,15 +737,40 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
           using R = sl_msgs::DriveDistanceResult;
           switch (r->reason)
           {
-            case R::REACHED: end = GoalEnd::REACHED; what = "reached"; break;
-            case R::PREEMPTED: end = GoalEnd::CANCELLED; what = "pre-empted"; break;
-            case R::BUMPER: end = GoalEnd::HAZARD; what = "bumper"; break;
-            case R::CLIFF: end = GoalEnd::HAZARD; what = "cliff"; break;
-            case R::WHEEL_DROP: end = GoalEnd::HAZARD; what = "wheel drop"; break;
-            case R::TIMEOUT: end = GoalEnd::FAILED; what = "timeout"; break;
-            case R::DISCONNECTED: end = GoalEnd::FAILED; what = "disconnected"; break;
-            case R::INVALID_GOAL: end = GoalEnd::FAILED; what = "invalid goal"; break;
-            default: break;
+            case R::REACHED:
+              end = GoalEnd::REACHED;
+              what = "reached";
+              break;
+            case R::PREEMPTED:
+              end = GoalEnd::CANCELLED;
+              what = "pre-empted";
+              break;
+            case R::BUMPER:
+              end = GoalEnd::HAZARD;
+              what = "bumper";
+              break;
+            case R::CLIFF:
+              end = GoalEnd::HAZARD;
+              what = "cliff";
+              break;
+            case R::WHEEL_DROP:
+              end = GoalEnd::HAZARD;
+              what = "wheel drop";
+              break;
+            case R::TIMEOUT:
+              end = GoalEnd::FAILED;
+              what = "timeout";
+              break;
+            case R::DISCONNECTED:
+              end = GoalEnd::FAILED;
+              what = "disconnected";
+              break;
+            case R::INVALID_GOAL:
+              end = GoalEnd::FAILED;
+              what = "invalid goal";
+              break;
+            default:
+              break;
           }
           if (!r->message.empty())
           {
@@ -761,7 +786,8 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
         decide(now);
       },
       Client::SimpleActiveCallback(),
-      [this, seq](const sl_msgs::DriveDistanceFeedbackConstPtr& feedback) {
+      [this, seq](const sl_msgs::DriveDistanceFeedbackConstPtr& feedback)
+      {
         std::lock_guard<std::recursive_mutex> lock(mutex_);
         if (seq == goal_seq_ && goal_active_)
         {
@@ -896,9 +922,9 @@ void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
   const double y1 = 0.5 * v.width;
   const double z0 = v.floor_margin;
   const double z1 = v.height;
-  const double xs[2] = {x0, x1};
-  const double ys[2] = {y0, y1};
-  const double zs[2] = {z0, z1};
+  const double xs[2] = { x0, x1 };
+  const double ys[2] = { y0, y1 };
+  const double zs[2] = { z0, z1 };
   for (int a = 0; a < 2; ++a)
   {
     for (int b = 0; b < 2; ++b)

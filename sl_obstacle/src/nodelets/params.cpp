@@ -110,10 +110,9 @@ Settings toSettings(const ObstacleConfig& c)
 bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b)
 {
   return a.map_size != b.map_size || a.map_resolution != b.map_resolution || a.map_slices != b.map_slices ||
-         a.map_decay != b.map_decay || a.start_free_radius != b.start_free_radius ||
-         a.robot_radius != b.robot_radius || a.lateral_margin != b.lateral_margin ||
-         a.check_distance != b.check_distance || a.headings != b.headings || a.turn_angle != b.turn_angle ||
-         a.floor_margin != b.floor_margin || a.height != b.height;
+         a.map_decay != b.map_decay || a.start_free_radius != b.start_free_radius || a.robot_radius != b.robot_radius ||
+         a.lateral_margin != b.lateral_margin || a.check_distance != b.check_distance || a.headings != b.headings ||
+         a.turn_angle != b.turn_angle || a.floor_margin != b.floor_margin || a.height != b.height;
 }
 
 std::string validateConfig(const ObstacleConfig& config)

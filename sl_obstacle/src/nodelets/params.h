@@ -1,6 +1,5 @@
 // Parameters of the sl_obstacle/obstacle nodelet: read and validated in one place.
-#ifndef SL_OBSTACLE_NODELETS_PARAMS_H
-#define SL_OBSTACLE_NODELETS_PARAMS_H
+#pragma once
 
 #include <string>
 
@@ -14,21 +13,21 @@ namespace sl_obstacle
 /// How forward motion is commanded.
 enum class CommandMode
 {
-  ACTION,  ///< drive_distance goals (sl_msgs/DriveDistance); turns via cmd_vel
-  CMD_VEL, ///< cmd_vel only (forward goals run open loop)
-  FILTER   ///< no autonomy: cmd_vel_in passed through the safety filter to cmd_vel
+  ACTION,   ///< drive_distance goals (sl_msgs/DriveDistance); turns via cmd_vel
+  CMD_VEL,  ///< cmd_vel only (forward goals run open loop)
+  FILTER    ///< no autonomy: cmd_vel_in passed through the safety filter to cmd_vel
 };
 
 /// Everything the nodelet reads from its private namespace.
 struct NodeletParams
 {
-  std::string target_frame = "platform_edge";  ///< ~target_frame: frame of the working volume
-  std::string odom_frame = "odom";             ///< ~odom_frame: frame the local map is kept in
-  std::string robot_frame = "base_link";       ///< ~robot_frame: centre of the robot's disc
+  std::string target_frame = "platform_edge";      ///< ~target_frame: frame of the working volume
+  std::string odom_frame = "odom";                 ///< ~odom_frame: frame the local map is kept in
+  std::string robot_frame = "base_link";           ///< ~robot_frame: centre of the robot's disc
   CommandMode command_mode = CommandMode::ACTION;  ///< ~command_mode: "action", "cmd_vel" or "filter"
-  double control_rate = 10.0;  ///< ~control_rate: decision steps per second without clouds (Hz)
-  ObstacleConfig config;       ///< the reconfigurable parameters (same names as in Obstacle.cfg)
-  Settings settings;           ///< config converted to the core's parameter structs
+  double control_rate = 10.0;                      ///< ~control_rate: decision steps per second without clouds (Hz)
+  ObstacleConfig config;                           ///< the reconfigurable parameters (same names as in Obstacle.cfg)
+  Settings settings;                               ///< config converted to the core's parameter structs
 };
 
 /// Converts the reconfigurable parameters into the core's settings (no validation).
@@ -47,5 +46,3 @@ std::string validateConfig(const ObstacleConfig& config);
 /// invalid value.
 NodeletParams loadParams(const ros::NodeHandle& pnh);
 }  // namespace sl_obstacle
-
-#endif  // SL_OBSTACLE_NODELETS_PARAMS_H

@@ -27,18 +27,18 @@ namespace sl_projector
  */
 struct PatternConfig
 {
-  int rows = 16;              ///< pattern rows
-  int cols = 64;              ///< pattern columns
-  int primitive_width = 5;    ///< primitive box width, projector px
-  int primitive_height = 9;   ///< primitive box height, projector px
-  int gap_x = 2;              ///< horizontal gap between primitives, projector px
-  int gap_y = 6;              ///< vertical gap between primitives, projector px
-  int offset_x = 0;           ///< left edge of the first cell, projector px
-  int offset_y = 0;           ///< top edge of the first cell, projector px
-  int projector_width = 480;  ///< frame width, px
-  int projector_height = 320; ///< frame height, px
-  bool flip_x = false;        ///< mirror the frame left-right after layout (mounting)
-  bool flip_y = false;        ///< mirror the frame top-bottom after layout (mounting)
+  int rows = 16;               ///< pattern rows
+  int cols = 64;               ///< pattern columns
+  int primitive_width = 5;     ///< primitive box width, projector px
+  int primitive_height = 9;    ///< primitive box height, projector px
+  int gap_x = 2;               ///< horizontal gap between primitives, projector px
+  int gap_y = 6;               ///< vertical gap between primitives, projector px
+  int offset_x = 0;            ///< left edge of the first cell, projector px
+  int offset_y = 0;            ///< top edge of the first cell, projector px
+  int projector_width = 480;   ///< frame width, px
+  int projector_height = 320;  ///< frame height, px
+  bool flip_x = false;         ///< mirror the frame left-right after layout (mounting)
+  bool flip_y = false;         ///< mirror the frame top-bottom after layout (mounting)
 
   /// @brief Cell width, px (no overflow once validate() passed).
   int cellWidth() const { return primitive_width + gap_x; }

@@ -27,12 +27,12 @@ namespace sl_projector
  */
 struct PinholeModel
 {
-  int width = 0;    ///< image width, px
-  int height = 0;   ///< image height, px
-  double fx = 0.0;  ///< focal length, px
-  double fy = 0.0;  ///< focal length, px
-  double cx = 0.0;  ///< principal point, px
-  double cy = 0.0;  ///< principal point, px
+  int width = 0;                                              ///< image width, px
+  int height = 0;                                             ///< image height, px
+  double fx = 0.0;                                            ///< focal length, px
+  double fy = 0.0;                                            ///< focal length, px
+  double cx = 0.0;                                            ///< principal point, px
+  double cy = 0.0;                                            ///< principal point, px
   std::array<double, 5> dist{ { 0.0, 0.0, 0.0, 0.0, 0.0 } };  ///< k1, k2, p1, p2, k3
 
   /// @brief Applies the distortion to normalised coordinates (x/z, y/z).
@@ -107,9 +107,9 @@ struct DepthTables
 /// roll = -pi/2, yaw = -pi/2 (REP 103).
 struct Mount
 {
-  std::string parent_frame = "platform_edge";            ///< frame the mount is given in
-  Eigen::Vector3d xyz = Eigen::Vector3d::Zero();          ///< camera_link origin, m
-  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();          ///< camera_link roll, pitch, yaw, rad
+  std::string parent_frame = "platform_edge";     ///< frame the mount is given in
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero();  ///< camera_link origin, m
+  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();  ///< camera_link roll, pitch, yaw, rad
   /// @brief The camera optical frame in the parent frame.
   RigidTransform cameraOpticalInParent() const;
 };
@@ -119,12 +119,12 @@ struct Mount
  */
 struct Rig
 {
-  PinholeModel camera;               ///< the camera
-  PinholeModel projector;            ///< the projector as an inverse camera, frame-buffer pixels
-  RigidTransform projector_pose;     ///< projector optical frame in the camera optical frame
-  PatternConfig pattern;             ///< the projected pattern
-  Mount mount;                       ///< camera on the robot
-  DepthTables tables;                ///< optional plane-calibration tables
+  PinholeModel camera;            ///< the camera
+  PinholeModel projector;         ///< the projector as an inverse camera, frame-buffer pixels
+  RigidTransform projector_pose;  ///< projector optical frame in the camera optical frame
+  PatternConfig pattern;          ///< the projected pattern
+  Mount mount;                    ///< camera on the robot
+  DepthTables tables;             ///< optional plane-calibration tables
 
   /// @brief Projector centre in the camera optical frame, m.
   Eigen::Vector3d projectorCentre() const { return projector_pose.translation; }

@@ -70,9 +70,7 @@ struct ProjectorWindow::Impl
   }
 };
 
-ProjectorWindow::ProjectorWindow() : impl_(new Impl)
-{
-}
+ProjectorWindow::ProjectorWindow() : impl_(new Impl) {}
 
 ProjectorWindow::~ProjectorWindow()
 {

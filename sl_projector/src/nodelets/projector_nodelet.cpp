@@ -158,9 +158,8 @@ private:
       try
       {
         window_.open(p.display, p.window_x, p.window_y, frame);
-        window_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
-          window_.spinOnce();
-        });
+        window_timer_ =
+            nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { window_.spinOnce(); });
         NODELET_INFO("showing the pattern at (%d, %d) on display '%s'", p.window_x, p.window_y, p.display.c_str());
       }
       catch (const std::exception& e)

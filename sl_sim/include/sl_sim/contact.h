@@ -24,11 +24,11 @@ enum BumpBits : uint8_t
  */
 struct ContactSettings
 {
-  double robot_radius = 0.1675;       ///< footprint radius, m (the Create: 335 mm diameter)
-  double robot_height = 0.10;         ///< top of the part that can touch (body and rig platform), m
-  double contact_min_height = 0.01;   ///< objects whose top is lower (a flat cable) are driven over, m
-  double both_half_angle = 0.349066;  ///< contacts within +-this of straight ahead press both bumpers (20 deg), rad
-  double bumper_half_angle = 1.570796;///< the bumper covers +-this around the heading (90 deg), rad
+  double robot_radius = 0.1675;         ///< footprint radius, m (the Create: 335 mm diameter)
+  double robot_height = 0.10;           ///< top of the part that can touch (body and rig platform), m
+  double contact_min_height = 0.01;     ///< objects whose top is lower (a flat cable) are driven over, m
+  double both_half_angle = 0.349066;    ///< contacts within +-this of straight ahead press both bumpers (20 deg), rad
+  double bumper_half_angle = 1.570796;  ///< the bumper covers +-this around the heading (90 deg), rad
 
   /// @brief Checks the values. @throws std::invalid_argument naming the field.
   void validate() const;
@@ -58,6 +58,7 @@ struct ContactPoint
  * @return kBumpRight | kBumpLeft bits.
  */
 uint8_t computeContact(const Scene& scene, const Eigen::Isometry3d& robot_in_world,
-                       const ContactSettings& settings = ContactSettings(), std::vector<ContactPoint>* points = nullptr);
+                       const ContactSettings& settings = ContactSettings(),
+                       std::vector<ContactPoint>* points = nullptr);
 
 }  // namespace sl_sim

@@ -46,13 +46,13 @@ enum class TextureType
 struct Texture
 {
   TextureType type = TextureType::None;  ///< kind
-  double scale = 0.02;       ///< checker square or noise feature size, m
-  double contrast = 0.5;     ///< checker / noise: darkest albedo = albedo * (1 - contrast), 0..1
+  double scale = 0.02;                   ///< checker square or noise feature size, m
+  double contrast = 0.5;                 ///< checker / noise: darkest albedo = albedo * (1 - contrast), 0..1
   // Checkerboard (calibration board) only:
-  int cols = 8;              ///< squares along the local x axis
-  int rows = 6;              ///< squares along the local y axis
-  double square = 0.03;      ///< square size, m
-  double dark_albedo = 0.05; ///< albedo of the dark squares (the light ones have the object's albedo)
+  int cols = 8;               ///< squares along the local x axis
+  int rows = 6;               ///< squares along the local y axis
+  double square = 0.03;       ///< square size, m
+  double dark_albedo = 0.05;  ///< albedo of the dark squares (the light ones have the object's albedo)
 };
 
 /// @brief Reflectance of a surface: Lambertian albedo with a texture, plus a Blinn-Phong lobe.
@@ -74,8 +74,8 @@ struct Material
  */
 struct SceneObject
 {
-  ObjectType type = ObjectType::Plane;  ///< kind
-  std::string name;                     ///< name from the file (may be empty)
+  ObjectType type = ObjectType::Plane;                     ///< kind
+  std::string name;                                        ///< name from the file (may be empty)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
   /// Plane: (size x, size y, 0), 0 or infinity for an infinite plane. Box: full edge lengths.
   /// Cylinder: (radius, radius, height).
@@ -143,8 +143,8 @@ std::vector<Eigen::Vector3d> checkerboardInnerCorners(const SceneObject& object)
 /// @brief A ray: origin + t * direction (the direction need not be unit length; t is in its units).
 struct Ray
 {
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();     ///< start point
-  Eigen::Vector3d direction = Eigen::Vector3d::UnitX(); ///< direction (non-zero)
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();      ///< start point
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< direction (non-zero)
 };
 
 /// @brief The nearest intersection of a ray with a scene.
@@ -154,8 +154,8 @@ struct Hit
   Eigen::Vector3d point = Eigen::Vector3d::Zero();     ///< hit point, world
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();    ///< unit outward normal (planes: facing the ray)
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();        ///< texture coordinates, m
-  int object = -1;  ///< index in Scene::objects, -1 for none
-  int part = 0;     ///< box face 0..5 (+x, -x, +y, -y, +z, -z); cylinder 0 side, 1 top, 2 bottom
+  int object = -1;                                     ///< index in Scene::objects, -1 for none
+  int part = 0;  ///< box face 0..5 (+x, -x, +y, -y, +z, -z); cylinder 0 side, 1 top, 2 bottom
 };
 
 /**

@@ -78,7 +78,8 @@ int main(int argc, char** argv)
   for (size_t i = 0; i < args.size(); ++i)
   {
     const std::string& a = args[i];
-    auto value = [&](std::string& target) {
+    auto value = [&](std::string& target)
+    {
       if (i + 1 >= args.size())
         return false;
       target = args[++i];

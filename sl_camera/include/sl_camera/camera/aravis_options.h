@@ -3,8 +3,7 @@
  * GigE Vision transport settings of the Aravis back-end. Plain data, available in every build
  * (parsing and validation live in camera_config.cpp, so a build without Aravis still checks them).
  */
-#ifndef SL_CAMERA_CAMERA_ARAVIS_OPTIONS_H
-#define SL_CAMERA_CAMERA_ARAVIS_OPTIONS_H
+#pragma once
 
 #include <string>
 
@@ -47,5 +46,3 @@ constexpr int kMinSocketBuffer = 65536;
 constexpr int kMaxSocketBuffer = 1 << 30;
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_ARAVIS_OPTIONS_H

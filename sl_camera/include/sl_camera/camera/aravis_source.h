@@ -3,8 +3,7 @@
  * GenICam cameras (USB3 Vision, GigE Vision) through the Aravis library. Compiled only when
  * pkg-config finds aravis-0.8 (see cameraBackendAvailable()).
  */
-#ifndef SL_CAMERA_CAMERA_ARAVIS_SOURCE_H
-#define SL_CAMERA_CAMERA_ARAVIS_SOURCE_H
+#pragma once
 
 #include <memory>
 #include <string>
@@ -77,5 +76,3 @@ private:
 };
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_ARAVIS_SOURCE_H

@@ -3,8 +3,7 @@
  * Configuration of a camera (back-end, device, settings), its validation, and the factory that
  * turns it into a FrameSource.
  */
-#ifndef SL_CAMERA_CAMERA_CAMERA_CONFIG_H
-#define SL_CAMERA_CAMERA_CAMERA_CONFIG_H
+#pragma once
 
 #include <memory>
 #include <string>
@@ -85,5 +84,3 @@ struct CameraConfig
 std::unique_ptr<FrameSource> createFrameSource(const CameraConfig& config);
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_CAMERA_CONFIG_H

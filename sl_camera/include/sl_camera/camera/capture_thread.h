@@ -2,8 +2,7 @@
  * @file
  * Runs a FrameSource on a worker thread: one initialisation, continuous capture, recovery.
  */
-#ifndef SL_CAMERA_CAMERA_CAPTURE_THREAD_H
-#define SL_CAMERA_CAMERA_CAPTURE_THREAD_H
+#pragma once
 
 #include <atomic>
 #include <chrono>
@@ -137,10 +136,7 @@ public:
   /** Snapshot of state and counters. */
   CaptureStats stats() const;
   /** Description of the source (from FrameSource::description()). */
-  const std::string& sourceDescription() const
-  {
-    return description_;
-  }
+  const std::string& sourceDescription() const { return description_; }
 
 private:
   void run();
@@ -177,5 +173,3 @@ private:
 };
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_CAPTURE_THREAD_H

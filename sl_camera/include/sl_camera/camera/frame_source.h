@@ -2,8 +2,7 @@
  * @file
  * The interface every camera back-end implements: open once, grab frames in a loop, close.
  */
-#ifndef SL_CAMERA_CAMERA_FRAME_SOURCE_H
-#define SL_CAMERA_CAMERA_FRAME_SOURCE_H
+#pragma once
 
 #include <chrono>
 #include <cstdint>
@@ -43,13 +42,13 @@ enum class GrabStatus
 /** Settings a back-end applies where the device supports them (SI units). */
 struct SourceSettings
 {
-  int width = 0;         ///< image width, px; 0: keep the device's
-  int height = 0;        ///< image height, px; 0: keep the device's
-  int offset_x = -1;     ///< left edge of the region on the sensor, px; < 0: centred (Aravis only)
-  int offset_y = -1;     ///< top edge of the region on the sensor, px; < 0: centred (Aravis only)
-  double rate = 10.0;    ///< frame rate, Hz (> 0)
-  double exposure = 0.0; ///< exposure time, s; <= 0: automatic
-  double gain = -1.0;    ///< gain in the device's units (Aravis: dB for Gain, raw for GainRaw; V4L2: raw); < 0: automatic
+  int width = 0;          ///< image width, px; 0: keep the device's
+  int height = 0;         ///< image height, px; 0: keep the device's
+  int offset_x = -1;      ///< left edge of the region on the sensor, px; < 0: centred (Aravis only)
+  int offset_y = -1;      ///< top edge of the region on the sensor, px; < 0: centred (Aravis only)
+  double rate = 10.0;     ///< frame rate, Hz (> 0)
+  double exposure = 0.0;  ///< exposure time, s; <= 0: automatic
+  double gain = -1.0;  ///< gain in the device's units (Aravis: dB for Gain, raw for GainRaw; V4L2: raw); < 0: automatic
 };
 
 /**
@@ -69,15 +68,10 @@ public:
   };
 
   /** An error of the given kind with a complete, human-readable message. */
-  CameraError(Kind kind, const std::string& message) : std::runtime_error(message), kind_(kind)
-  {
-  }
+  CameraError(Kind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
 
   /** The kind of the error. */
-  Kind kind() const
-  {
-    return kind_;
-  }
+  Kind kind() const { return kind_; }
 
 private:
   Kind kind_;
@@ -116,19 +110,13 @@ public:
   virtual bool isOpen() const = 0;
 
   /** Frame rate the open device runs at, Hz, or 0 when unknown. */
-  virtual double nominalRate() const
-  {
-    return 0.0;
-  }
+  virtual double nominalRate() const { return 0.0; }
 
   /**
    * True while the open source holds back its frames on purpose (a player waiting for its start):
    * grab() then returns Timeout, which the capture thread does not take for a stall.
    */
-  virtual bool waiting() const
-  {
-    return false;
-  }
+  virtual bool waiting() const { return false; }
 
   /**
    * Notes gathered since the last call (settings the device refused or clamped), for the log.
@@ -143,15 +131,10 @@ public:
 
 protected:
   /** Records a note for takeWarnings(). */
-  void warn(const std::string& message)
-  {
-    warnings_.push_back(message);
-  }
+  void warn(const std::string& message) { warnings_.push_back(message); }
 
 private:
   std::vector<std::string> warnings_;
 };
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_FRAME_SOURCE_H

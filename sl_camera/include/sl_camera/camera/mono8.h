@@ -2,8 +2,7 @@
  * @file
  * Conversion of whatever a camera or an image file delivers to 8-bit grey.
  */
-#ifndef SL_CAMERA_CAMERA_MONO8_H
-#define SL_CAMERA_CAMERA_MONO8_H
+#pragma once
 
 #include <string>
 
@@ -25,5 +24,3 @@ void toMono8(const cv::Mat& in, cv::Mat& out, int significant_bits = 16);
 std::string matTypeName(int type);
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_MONO8_H

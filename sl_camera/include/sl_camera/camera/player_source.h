@@ -2,8 +2,7 @@
  * @file
  * Replays a folder of images or a video file at a set rate (offline data).
  */
-#ifndef SL_CAMERA_CAMERA_PLAYER_SOURCE_H
-#define SL_CAMERA_CAMERA_PLAYER_SOURCE_H
+#pragma once
 
 #include <memory>
 #include <string>
@@ -73,16 +72,10 @@ public:
    * Files that could not be decoded (or converted to mono8) so far, across re-opens. The record
    * is shared and thread-safe: read it from any thread while the capture thread plays.
    */
-  std::shared_ptr<const UnreadableFiles> unreadableFiles() const
-  {
-    return unreadable_;
-  }
+  std::shared_ptr<const UnreadableFiles> unreadableFiles() const { return unreadable_; }
 
   /** The images found by open(), in replay order (empty for a video). */
-  const std::vector<std::string>& files() const
-  {
-    return files_;
-  }
+  const std::vector<std::string>& files() const { return files_; }
 
   /** True if @p path has one of the image extensions listed above. */
   static bool isImageFile(const std::string& path);
@@ -118,5 +111,3 @@ private:
 };
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_PLAYER_SOURCE_H

@@ -2,8 +2,7 @@
  * @file
  * Holds a player at its first frame until someone wants its images.
  */
-#ifndef SL_CAMERA_CAMERA_START_GATE_H
-#define SL_CAMERA_CAMERA_START_GATE_H
+#pragma once
 
 #include <chrono>
 #include <condition_variable>
@@ -21,9 +20,7 @@ class StartGate
 {
 public:
   /** @param open start out open (playback not held) */
-  explicit StartGate(bool open = false) : open_(open)
-  {
-  }
+  explicit StartGate(bool open = false) : open_(open) {}
 
   /** Opens the gate and wakes a waiting grab. Idempotent. */
   void open();
@@ -57,5 +54,3 @@ private:
 bool shouldStartPlayback(int image_subscribers, int info_subscribers, double image_only_for, double image_only_grace);
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_START_GATE_H

@@ -2,8 +2,7 @@
  * @file
  * The record of the files a player could not use, for the log and the diagnostics.
  */
-#ifndef SL_CAMERA_CAMERA_UNREADABLE_FILES_H
-#define SL_CAMERA_CAMERA_UNREADABLE_FILES_H
+#pragma once
 
 #include <cstddef>
 #include <mutex>
@@ -56,5 +55,3 @@ private:
 };
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_UNREADABLE_FILES_H

@@ -2,8 +2,7 @@
  * @file
  * Video4Linux2 cameras (USB UVC and others) through OpenCV's V4L2 back-end.
  */
-#ifndef SL_CAMERA_CAMERA_V4L2_SOURCE_H
-#define SL_CAMERA_CAMERA_V4L2_SOURCE_H
+#pragma once
 
 #include <memory>
 #include <string>
@@ -66,5 +65,3 @@ private:
 };
 
 }  // namespace sl_camera
-
-#endif  // SL_CAMERA_CAMERA_V4L2_SOURCE_H

@@ -52,17 +52,17 @@ struct BoardView
 /// @brief Options of the camera calibration.
 struct CameraCalibrationOptions
 {
-  bool fix_k3 = true;           ///< keep k3 = 0 (as ROS camera_calibration does by default)
-  bool zero_tangential = false; ///< keep p1 = p2 = 0
-  int min_views = 3;            ///< fewer board views are refused
+  bool fix_k3 = true;            ///< keep k3 = 0 (as ROS camera_calibration does by default)
+  bool zero_tangential = false;  ///< keep p1 = p2 = 0
+  int min_views = 3;             ///< fewer board views are refused
 };
 
 /// @brief Result of the camera calibration.
 struct CameraCalibrationResult
 {
-  sl_projector::PinholeModel camera;                 ///< intrinsics and distortion
-  double rms = 0.0;                                  ///< reprojection error over all corners, px (rms)
-  std::vector<double> view_rms;                      ///< per view, px
+  sl_projector::PinholeModel camera;                      ///< intrinsics and distortion
+  double rms = 0.0;                                       ///< reprojection error over all corners, px (rms)
+  std::vector<double> view_rms;                           ///< per view, px
   std::vector<sl_projector::RigidTransform> board_poses;  ///< board frame in the camera optical frame, per view
 };
 

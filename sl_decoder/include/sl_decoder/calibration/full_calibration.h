@@ -23,9 +23,9 @@ namespace calibration
 /// @brief Options of the full calibration.
 struct FullCalibrationOptions
 {
-  CameraCalibrationOptions camera;        ///< camera fit
-  ProjectorCalibrationOptions projector;  ///< projector fit
-  PlaneCalibrationOptions distance_planes;  ///< how known distances define planes (reference, normal)
+  CameraCalibrationOptions camera;                            ///< camera fit
+  ProjectorCalibrationOptions projector;                      ///< projector fit
+  PlaneCalibrationOptions distance_planes;                    ///< how known distances define planes (reference, normal)
   double epipolar_tolerance = kCalibrationEpipolarTolerance;  ///< decoder tolerance for the pattern images, px
   /// After the separate fits, refine everything together (bundle adjustment): camera and projector
   /// models, projector pose and board poses, minimising the checkerboard corners' reprojection error
@@ -37,13 +37,13 @@ struct FullCalibrationOptions
 /// @brief Everything the full calibration produced.
 struct FullCalibrationResult
 {
-  bool camera_calibrated = false;          ///< false when the camera model was given (setCamera())
-  CameraCalibrationResult camera;          ///< camera fit (model also set when given)
-  std::vector<std::string> camera_views;   ///< names of the board views, in the order of camera.view_rms
-  ProjectorCalibrationResult projector;    ///< projector fit
-  bool refined = false;                    ///< the joint refinement ran (the numbers above are after it)
-  std::vector<std::string> plane_views;    ///< names of the plane views, in the order of projector.view_rms
-  sl_projector::Rig rig;                   ///< the input rig with camera, projector and projector_pose replaced
+  bool camera_calibrated = false;         ///< false when the camera model was given (setCamera())
+  CameraCalibrationResult camera;         ///< camera fit (model also set when given)
+  std::vector<std::string> camera_views;  ///< names of the board views, in the order of camera.view_rms
+  ProjectorCalibrationResult projector;   ///< projector fit
+  bool refined = false;                   ///< the joint refinement ran (the numbers above are after it)
+  std::vector<std::string> plane_views;   ///< names of the plane views, in the order of projector.view_rms
+  sl_projector::Rig rig;                  ///< the input rig with camera, projector and projector_pose replaced
 
   /// @brief A human-readable report: models, reprojection errors per view, pose.
   std::string summary() const;
@@ -146,13 +146,13 @@ private:
 /// @brief Differences between a calibrated rig and a reference (e.g. the simulator's true rig).
 struct RigComparison
 {
-  double camera_fx_percent = 0.0, camera_fy_percent = 0.0;          ///< relative focal length error, %
-  double camera_cx_px = 0.0, camera_cy_px = 0.0;                    ///< principal point error, px
-  double projector_fx_percent = 0.0, projector_fy_percent = 0.0;    ///< %
-  double projector_cx_px = 0.0, projector_cy_px = 0.0;              ///< px
-  double translation_mm = 0.0;   ///< |t - t_ref|, mm
-  double baseline_mm = 0.0;      ///< |t| - |t_ref|, mm
-  double rotation_deg = 0.0;     ///< angle of R^T R_ref, degrees
+  double camera_fx_percent = 0.0, camera_fy_percent = 0.0;        ///< relative focal length error, %
+  double camera_cx_px = 0.0, camera_cy_px = 0.0;                  ///< principal point error, px
+  double projector_fx_percent = 0.0, projector_fy_percent = 0.0;  ///< %
+  double projector_cx_px = 0.0, projector_cy_px = 0.0;            ///< px
+  double translation_mm = 0.0;                                    ///< |t - t_ref|, mm
+  double baseline_mm = 0.0;                                       ///< |t| - |t_ref|, mm
+  double rotation_deg = 0.0;                                      ///< angle of R^T R_ref, degrees
 
   /// @brief One line per quantity.
   std::string summary() const;

@@ -25,8 +25,8 @@ struct LevenbergMarquardt
   /// Residual function: fills r (its size may not change between calls).
   using Residuals = std::function<void(const Eigen::VectorXd& params, Eigen::VectorXd& r)>;
 
-  int max_iterations = 100;         ///< outer iterations
-  double relative_tolerance = 1e-12; ///< stop when the cost decreases by less than this fraction
+  int max_iterations = 100;           ///< outer iterations
+  double relative_tolerance = 1e-12;  ///< stop when the cost decreases by less than this fraction
 
   /// @brief Final cost (sum of squares) of the last minimize().
   double cost = 0.0;

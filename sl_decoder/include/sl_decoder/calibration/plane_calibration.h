@@ -23,7 +23,8 @@ namespace calibration
  */
 enum class DistanceReference
 {
-  Camera,  ///< from the camera's optical centre (mount.xyz), along the normal: the prototype's and the simulator scenes' convention
+  Camera,  ///< from the camera's optical centre (mount.xyz), along the normal: the prototype's and the simulator
+           ///< scenes' convention
   Edge     ///< from the origin of the mount's parent frame (the robot's front edge), along the robot's x axis
 };
 
@@ -92,12 +93,12 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
 /// @brief The fit and its residuals for one primitive.
 struct PrimitiveFit
 {
-  int row = 0;        ///< pattern row
-  int col = 0;        ///< pattern column
-  int distances = 0;  ///< distinct distances it was seen at
+  int row = 0;                        ///< pattern row
+  int col = 0;                        ///< pattern column
+  int distances = 0;                  ///< distinct distances it was seen at
   sl_projector::DepthModel linear;    ///< prototype's model (valid when calibrated)
   sl_projector::DepthModel rational;  ///< rational model (valid when calibrated)
-  bool rejected = false;               ///< seen often enough, but the rational fit was inconsistent
+  bool rejected = false;              ///< seen often enough, but the rational fit was inconsistent
   /// Per calibration distance (index into PlaneCalibrationResult::distances): median image column
   /// (NaN where not seen), target depth, and the residuals model - target, m.
   std::vector<double> u, depth, linear_residual, rational_residual;
@@ -106,10 +107,10 @@ struct PrimitiveFit
 /// @brief Residual statistics of one calibration distance.
 struct DistanceSummary
 {
-  double distance = 0.0;    ///< m, as given
-  int images = 0;           ///< images at this distance
-  int primitives = 0;       ///< distinct primitives decoded at this distance
-  int calibrated = 0;       ///< of which calibrated
+  double distance = 0.0;      ///< m, as given
+  int images = 0;             ///< images at this distance
+  int primitives = 0;         ///< distinct primitives decoded at this distance
+  int calibrated = 0;         ///< of which calibrated
   double linear_rms = 0.0;    ///< rms residual of the linear model over the calibrated primitives, m
   double rational_rms = 0.0;  ///< rms residual of the rational model, m
   double linear_max = 0.0;    ///< largest |residual|, m
@@ -122,12 +123,12 @@ struct PlaneCalibrationResult
   std::vector<DistanceSummary> distances;  ///< distinct distances, ascending
   std::vector<PrimitiveFit> primitives;    ///< every primitive seen at least once, row-major order
   sl_projector::DepthTables tables;        ///< rows x cols tables for the rig file
-  int seen = 0;              ///< primitives seen at all
-  int calibrated = 0;        ///< primitives with both models
-  int too_few = 0;           ///< seen, but at fewer than min_distances distances
-  int rejected = 0;          ///< seen often enough but inconsistent (rms above max_rational_rms)
-  double linear_rms = 0.0;   ///< rms residual over every calibrated primitive and distance, m
-  double rational_rms = 0.0; ///< m
+  int seen = 0;                            ///< primitives seen at all
+  int calibrated = 0;                      ///< primitives with both models
+  int too_few = 0;                         ///< seen, but at fewer than min_distances distances
+  int rejected = 0;                        ///< seen often enough but inconsistent (rms above max_rational_rms)
+  double linear_rms = 0.0;                 ///< rms residual over every calibrated primitive and distance, m
+  double rational_rms = 0.0;               ///< m
 
   /// @brief A human-readable summary: per distance and overall, and the primitives left out.
   std::string summary() const;

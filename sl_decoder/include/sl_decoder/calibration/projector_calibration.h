@@ -54,13 +54,13 @@ struct ProjectorCalibrationOptions
 /// @brief Result of the projector calibration.
 struct ProjectorCalibrationResult
 {
-  sl_projector::PinholeModel projector;          ///< intrinsics and distortion, frame-buffer px
-  sl_projector::RigidTransform pose;             ///< projector optical frame in the camera optical frame
-  double rms = 0.0;                              ///< reprojection error in the projector, px (inliers)
-  std::vector<double> view_rms;                  ///< per view, px (inliers)
-  std::vector<int> view_points;                  ///< inlier correspondences per view
-  int points = 0;                                ///< inliers in all
-  int outliers = 0;                              ///< dropped correspondences
+  sl_projector::PinholeModel projector;  ///< intrinsics and distortion, frame-buffer px
+  sl_projector::RigidTransform pose;     ///< projector optical frame in the camera optical frame
+  double rms = 0.0;                      ///< reprojection error in the projector, px (inliers)
+  std::vector<double> view_rms;          ///< per view, px (inliers)
+  std::vector<int> view_points;          ///< inlier correspondences per view
+  int points = 0;                        ///< inliers in all
+  int outliers = 0;                      ///< dropped correspondences
   /// Per input correspondence: used in the final fit (false for outliers and views with too few points).
   std::vector<bool> inlier;
 };
@@ -79,9 +79,9 @@ struct ProjectorCalibrationResult
  * @throws CalibrationError for fewer than min_views views, too few points, a failed fit, or a final
  * reprojection error above max_rms.
  */
-ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorrespondence>& correspondences, int width,
-                                              int height,
-                                              const ProjectorCalibrationOptions& options = ProjectorCalibrationOptions());
+ProjectorCalibrationResult calibrateProjector(
+    const std::vector<ProjectorCorrespondence>& correspondences, int width, int height,
+    const ProjectorCalibrationOptions& options = ProjectorCalibrationOptions());
 
 /**
  * @brief Reprojection residuals (projected - measured, projector px) of @p correspondences under a

@@ -658,38 +658,31 @@ void RayClassifier::classify(const cv::Mat& image, const DecodeResult& result, s
 bool RayClassifier::confirmed(const std::vector<RayOutcome>& outcomes, int i) const
 {
   const RayOutcome& o = outcomes[static_cast<size_t>(i)];
-  const int r = i / cols_, c = i % cols_;
-  // Its own light: a neighbouring row's decoded or lit end within kSupport.
-  if (near_other_[static_cast<size_t>(i)] == 0)
-    for (int rr = r - 1; rr <= r + 1; rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
-           ++cc)
-      {
-        const size_t j = static_cast<size_t>(rr * cols_ + cc);
-        const RayOutcome& q = outcomes[j];
-        // A glow-zone suspect at other light is no evidence for anyone else's.
-        if ((q.state == RayState::Decoded || (q.state == RayState::Lit && near_other_[j] == 0)) &&
-            (q.end - o.end).squaredNorm() <= kSupport * kSupport)
-          return true;
-      }
+  // Its own light: a neighbouring row's decoded or lit end within kSupport. A glow-zone suspect at
+  // other light is no evidence for anyone else's (nor confirmed this way itself).
+  if (near_other_[static_cast<size_t>(i)] == 0 &&
+      anyInNeighbourRows(i, kSupportCols,
+                         [&](size_t j)
+                         {
+                           const RayOutcome& q = outcomes[j];
+                           return (q.state == RayState::Decoded || (q.state == RayState::Lit && near_other_[j] == 0)) &&
+                                  (q.end - o.end).squaredNorm() <= kSupport * kSupport;
+                         }))
+    return true;
   // Near the camera (glow_max_depth) defocus smears a surface's pattern into a glow that the walk
   // meets before the surface itself (and blurs shapes, so light of another shape may be its own):
-  // a surface decoded just behind, in the glow zone, confirms it.
+  // a surface decoded just behind, in the glow zone, confirms it. Not a floor point: the floor near
+  // the robot glows too, in front of no obstacle.
   const float glow_depth = static_cast<float>(config_.glow_max_depth);
   if (!(o.depth < glow_depth))
     return false;
-  for (int rr = r - 1; rr <= r + 1; rr += 2)
-    for (int cc = std::max(0, c - kGlowSupportCols);
-         rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kGlowSupportCols); ++cc)
-    {
-      const size_t j = static_cast<size_t>(rr * cols_ + cc);
-      const RayOutcome& q = outcomes[j];
-      // Not a floor point: the floor near the robot glows too, in front of no obstacle.
-      if (q.state == RayState::Decoded && q.depth >= o.depth - kSupport && q.depth <= glow_depth &&
-          q.depth < kOnFloor * prims_[j].limit)
-        return true;
-    }
-  return false;
+  return anyInNeighbourRows(i, kGlowSupportCols,
+                            [&](size_t j)
+                            {
+                              const RayOutcome& q = outcomes[j];
+                              return q.state == RayState::Decoded && q.depth >= o.depth - kSupport &&
+                                     q.depth <= glow_depth && q.depth < kOnFloor * prims_[j].limit;
+                            });
 }
 
 void RayClassifier::dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes)
@@ -710,19 +703,15 @@ void RayClassifier::dropUnsupportedSuspects(std::vector<RayOutcome>& outcomes)
     const RayOutcome& o = outcomes[static_cast<size_t>(i)];
     if (!unsupported_[static_cast<size_t>(i)] || !(o.depth < glow_depth))
       continue;
-    const int r = i / cols_, c = i % cols_;
-    for (int rr = r - 1; rr <= r + 1 && unsupported_[static_cast<size_t>(i)] == 1; rr += 2)
-      for (int cc = std::max(0, c - kSupportCols); rr >= 0 && rr < rows_ && cc <= std::min(cols_ - 1, c + kSupportCols);
-           ++cc)
-      {
-        const size_t j = static_cast<size_t>(rr * cols_ + cc);
-        if (outcomes[j].state == RayState::Lit && unsupported_[j] == 0 && near_other_[j] == 0 &&
-            std::fabs(outcomes[j].depth - o.depth) <= kGlowChainDepth)
-        {
-          unsupported_[static_cast<size_t>(i)] = 2;  // confirmed in this pass; not a source for others
-          break;
-        }
-      }
+    const bool chained = anyInNeighbourRows(i, kSupportCols,
+                                            [&](size_t j)
+                                            {
+                                              return outcomes[j].state == RayState::Lit && unsupported_[j] == 0 &&
+                                                     near_other_[j] == 0 &&
+                                                     std::fabs(outcomes[j].depth - o.depth) <= kGlowChainDepth;
+                                            });
+    if (chained)
+      unsupported_[static_cast<size_t>(i)] = 2;  // confirmed in this pass; not a source for others
   }
   for (int i = 0; i < rows_ * cols_; ++i)
   {

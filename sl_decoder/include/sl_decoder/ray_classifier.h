@@ -3,6 +3,7 @@
 /// @brief Per-ray outcomes: what every projected primitive says about free and occupied space in
 /// one frame (doc/world_model.md section 1; ROS-free).
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -221,6 +222,22 @@ private:
   /// Whether lit outcome @p i is confirmed: by a neighbouring row's end within kSupport (its own
   /// light only), or in the glow zone by a surface decoded just behind it nearby.
   bool confirmed(const std::vector<RayOutcome>& outcomes, int i) const;
+  /// Whether @p pred(j) holds for a primitive j of the pattern rows above and below primitive @p i,
+  /// at most @p span columns from it (the neighbourhood every confirmation rule searches).
+  template <typename Pred>
+  bool anyInNeighbourRows(int i, int span, Pred pred) const
+  {
+    const int r = i / cols_, c = i % cols_;
+    for (int rr = r - 1; rr <= r + 1; rr += 2)
+    {
+      if (rr < 0 || rr >= rows_)
+        continue;
+      for (int cc = std::max(0, c - span); cc <= std::min(cols_ - 1, c + span); ++cc)
+        if (pred(static_cast<size_t>(rr * cols_ + cc)))
+          return true;
+    }
+    return false;
+  }
   void setOutcome(RayOutcome& out, RayState state, int index, float z) const;
 
   RayConfig config_;

@@ -4,53 +4,25 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "local_threshold.h"
 
 namespace sl_decoder
 {
 
-namespace
+BlobDetector::BlobDetector(const DecoderConfig& config)
+  : config_(config), simd_(static_cast<Simd>(local_threshold::fastestPath()))
 {
-// sums[x] += sign * row[x]; restrict lets the compiler vectorise it.
-void addRow(int32_t* __restrict sums, const uint8_t* __restrict row, int w, int32_t sign)
-{
-  for (int x = 0; x < w; ++x)
-    sums[x] += sign * static_cast<int32_t>(row[x]);
 }
 
-// sums[x] += add[x] - sub[x]: the window slides by one row in one pass.
-void slideRows(int32_t* __restrict sums, const uint8_t* __restrict add, const uint8_t* __restrict sub, int w)
+BlobDetector::Simd BlobDetector::useSimd(Simd simd)
 {
-  for (int x = 0; x < w; ++x)
-    sums[x] += static_cast<int32_t>(add[x]) - static_cast<int32_t>(sub[x]);
+  // Simd and local_threshold::Path list the same instruction sets in the same order.
+  auto path = static_cast<local_threshold::Path>(simd);
+  while (!local_threshold::supported(path))
+    path = static_cast<local_threshold::Path>(static_cast<int>(path) - 1);
+  simd_ = static_cast<Simd>(path);
+  return simd_;
 }
-
-// pre[0] = 0, pre[x + 1] = pre[x] + v[x]. The serial chain of a scalar loop is the slowest part of
-// the threshold; four lanes at a time (two shifted adds, then the carry) shorten it fourfold.
-void prefixSum(const int32_t* __restrict v, int32_t* __restrict pre, int w)
-{
-  pre[0] = 0;
-  int x = 0;
-#if defined(__SSE2__)
-  __m128i carry = _mm_setzero_si128();
-  for (; x + 4 <= w; x += 4)
-  {
-    __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v + x));
-    a = _mm_add_epi32(a, _mm_slli_si128(a, 4));
-    a = _mm_add_epi32(a, _mm_slli_si128(a, 8));
-    a = _mm_add_epi32(a, carry);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(pre + x + 1), a);
-    carry = _mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 3, 3));
-  }
-#endif
-  for (; x < w; ++x)
-    pre[x + 1] = pre[x] + v[x];
-}
-}  // namespace
-
-BlobDetector::BlobDetector(const DecoderConfig& config) : config_(config) {}
 
 inline int BlobDetector::find(int i)
 {
@@ -90,6 +62,160 @@ inline void BlobDetector::unite(int a, int b)
     runs_[static_cast<size_t>(a)].parent = b;
 }
 
+void BlobDetector::thresholdAndLink(const cv::Mat& image)
+{
+  const int w = image.cols, h = image.rows;
+  const int r = config_.threshold_window / 2;
+  const size_t ws = static_cast<size_t>(w);
+  // Column sums of kRowBlock rows (slot 0: the last row of the previous block) and their prefix sums.
+  col_sums_.assign((kRowBlock + 1) * ws, 0);
+  prefix_.resize(kRowBlock * (ws + 1));
+  bits_.resize(static_cast<size_t>((w + 63) >> 6) + 1);
+  weight_.resize(ws);
+  // The rows above the first window's centre (slot 1 is scratch here).
+  for (int y = 0; y < std::min(h, r); ++y)
+  {
+    local_threshold::slideColumnSums(col_sums_.data(), image.ptr<uint8_t>(y), nullptr, w, col_sums_.data() + ws);
+    std::copy(col_sums_.data() + ws, col_sums_.data() + 2 * ws, col_sums_.data());
+  }
+  local_threshold::RowInput row;
+  row.w = w;
+  row.r = r;
+  row.offset = static_cast<float>(config_.threshold_offset);
+  const auto path = static_cast<local_threshold::Path>(simd_);
+  int prev_begin = 0, prev_end = 0;
+  for (int y0 = 0; y0 < h; y0 += kRowBlock)
+  {
+    const int n = std::min(kRowBlock, h - y0);
+    const int32_t* sums[kRowBlock];
+    int32_t* pre[kRowBlock];
+    for (int j = 0; j < n; ++j)
+    {
+      // The window of row y: add row y + r, drop row y - r - 1.
+      const int y = y0 + j;
+      const uint8_t* add = y + r < h ? image.ptr<uint8_t>(y + r) : nullptr;
+      const uint8_t* sub = y - r - 1 >= 0 ? image.ptr<uint8_t>(y - r - 1) : nullptr;
+      int32_t* out = col_sums_.data() + static_cast<size_t>(j + 1) * ws;
+      local_threshold::slideColumnSums(out - ws, add, sub, w, out);
+      sums[j] = out;
+      pre[j] = prefix_.data() + static_cast<size_t>(j) * (ws + 1);
+    }
+    local_threshold::prefixSums(sums, pre, n, w);
+    std::copy(sums[n - 1], sums[n - 1] + w, col_sums_.data());
+    for (int j = 0; j < n; ++j)
+    {
+      const int y = y0 + j;
+      row.src = image.ptr<uint8_t>(y);
+      row.pre = pre[j];
+      row.rows = std::min(h, y + r + 1) - std::max(0, y - r);
+      local_threshold::thresholdRow(row, path, bits_.data(), weight_.data());
+      const int cur_begin = static_cast<int>(runs_.size());
+      extractRuns(y, w);
+      const int cur_end = static_cast<int>(runs_.size());
+      accumulateRuns(cur_begin, cur_end);
+      linkRows(prev_begin, prev_end, cur_begin, cur_end);
+      prev_begin = cur_begin;
+      prev_end = cur_end;
+    }
+  }
+}
+
+void BlobDetector::extractRuns(int y, int w)
+{
+  // The first set bit starts a run, the first clear bit after it ends it.
+  const uint64_t* bits = bits_.data();
+  const int words = (w + 63) >> 6;
+  int k = 0;
+  uint64_t m = bits[0];
+  for (;;)
+  {
+    while (m == 0 && ++k < words)
+      m = bits[k];
+    if (m == 0)
+      break;
+    const int b0 = __builtin_ctzll(m);
+    const int x0 = (k << 6) + b0;
+    uint64_t z = ~m & (~uint64_t{ 0 } << b0);
+    while (z == 0 && ++k < words)
+    {
+      m = bits[k];
+      z = ~m;
+    }
+    int x1 = w;
+    m = 0;
+    if (z != 0)
+    {
+      const int b1 = __builtin_ctzll(z);
+      x1 = (k << 6) + b1;
+      m = bits[k] & (~uint64_t{ 0 } << b1);  // the later runs of this word
+    }
+    // Filled in place: a Run assembled on the stack and copied stalls on store forwarding.
+    runs_.emplace_back();
+    Run& run = runs_.back();
+    run.y = y;
+    run.x0 = x0;
+    run.x1 = x1;
+    run.parent = static_cast<int32_t>(runs_.size() - 1);
+  }
+}
+
+namespace
+{
+/// Adds weight[x] for x in [from, to) to one run's sums, in pixel order.
+inline void addPixels(const float* weight, int from, int to, float& sw, float& swx, float& peak)
+{
+  for (int x = from; x < to; ++x)
+  {
+    const float wx = weight[x];
+    sw += wx;
+    swx += wx * static_cast<float>(x);
+    peak = std::max(peak, wx);
+  }
+}
+}  // namespace
+
+void BlobDetector::accumulateRuns(int begin, int end)
+{
+  // Four runs at a time: each run's sums still add its pixels in order (the same floats as one run
+  // at a time), but the four runs' dependency chains overlap.
+  const float* weight = weight_.data();
+  Run* runs = runs_.data();
+  int i = begin;
+  for (; i + 4 <= end; i += 4)
+  {
+    float sw[4] = { 0.f, 0.f, 0.f, 0.f }, swx[4] = { 0.f, 0.f, 0.f, 0.f }, peak[4] = { 0.f, 0.f, 0.f, 0.f };
+    int x0[4], len = std::numeric_limits<int>::max();
+    for (int k = 0; k < 4; ++k)
+    {
+      x0[k] = runs[i + k].x0;
+      len = std::min(len, runs[i + k].x1 - x0[k]);
+    }
+    for (int t = 0; t < len; ++t)
+      for (int k = 0; k < 4; ++k)
+      {
+        const int x = x0[k] + t;
+        const float wx = weight[x];
+        sw[k] += wx;
+        swx[k] += wx * static_cast<float>(x);
+        peak[k] = std::max(peak[k], wx);
+      }
+    for (int k = 0; k < 4; ++k)
+    {
+      Run& run = runs[i + k];
+      addPixels(weight, x0[k] + len, run.x1, sw[k], swx[k], peak[k]);
+      run.sw = sw[k];
+      run.swx = swx[k];
+      run.peak = peak[k];
+    }
+  }
+  for (; i < end; ++i)
+  {
+    Run& run = runs[i];
+    run.sw = run.swx = run.peak = 0.f;
+    addPixels(weight, run.x0, run.x1, run.sw, run.swx, run.peak);
+  }
+}
+
 void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
 {
   CV_Assert(image.type() == CV_8UC1);
@@ -98,152 +224,7 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
   split_pixels_ = 0;
   if (image.empty())
     return;
-  const int w = image.cols, h = image.rows;
-  const int r = config_.threshold_window / 2;
-  const float offset = static_cast<float>(config_.threshold_offset);
-  col_sum_.assign(static_cast<size_t>(w), 0);
-  prefix_.resize(static_cast<size_t>(w) + 1);
-  const int words = (w + 63) >> 6;
-  bits_.resize(static_cast<size_t>(words) + 1);  // + 1: a 16-bit group may spill past the last word
-  weight_.resize(static_cast<size_t>(w));
-  int32_t* cs = col_sum_.data();
-  int32_t* pre = prefix_.data();
-  for (int y = 0; y < std::min(h, r); ++y)
-    addRow(cs, image.ptr<uint8_t>(y), w, 1);
-
-  // Threshold, extract runs and link them to the runs of the previous row.
-  int prev_begin = 0, prev_end = 0;
-  for (int y = 0; y < h; ++y)
-  {
-    // Slide the window's rows: add row y + r, drop row y - r - 1.
-    // (restrict: the byte rows could alias the sums as far as the compiler knows)
-    if (y + r < h && y - r - 1 >= 0)
-      slideRows(cs, image.ptr<uint8_t>(y + r), image.ptr<uint8_t>(y - r - 1), w);
-    else if (y + r < h)
-      addRow(cs, image.ptr<uint8_t>(y + r), w, 1);
-    else if (y - r - 1 >= 0)
-      addRow(cs, image.ptr<uint8_t>(y - r - 1), w, -1);
-    const int rows = std::min(h, y + r + 1) - std::max(0, y - r);
-    prefixSum(cs, pre, w);
-    // Foreground test value > mean + offset as value * area > sum + offset * area, in integers.
-    // The interior has a constant window area, so that loop vectorises.
-    const uint8_t* src = image.ptr<uint8_t>(y);
-    uint64_t* bits = bits_.data();
-    float* weight = weight_.data();
-    std::fill(bits, bits + words + 1, uint64_t{ 0 });
-    auto setBit = [bits](int x) { bits[x >> 6] |= uint64_t{ 1 } << (x & 63); };
-    const int lo = std::min(r, w), hi = std::max(lo, w - r - 1);
-    const int32_t area_in = rows * (2 * r + 1);
-    const int32_t offset_in = static_cast<int32_t>(offset * static_cast<float>(area_in) + 0.5f);
-    int x_in = lo;
-#if defined(__SSE2__)
-    // 16 pixels at a time: value > (sum + offset * area) / area, in floats; the 16 flags go into the
-    // row's bit mask at once, the weights value - mean into weight_.
-    {
-      const __m128 inv_area = _mm_set1_ps(1.0f / static_cast<float>(area_in));
-      const __m128 off = _mm_set1_ps(static_cast<float>(offset_in) / static_cast<float>(area_in));
-      const __m128i zero = _mm_setzero_si128();
-      for (; x_in + 16 <= hi; x_in += 16)
-      {
-        const __m128i v8 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + x_in));
-        const __m128i lo16 = _mm_unpacklo_epi8(v8, zero), hi16 = _mm_unpackhi_epi8(v8, zero);
-        __m128i cmp[4];
-        const __m128i v32[4] = { _mm_unpacklo_epi16(lo16, zero), _mm_unpackhi_epi16(lo16, zero),
-                                 _mm_unpacklo_epi16(hi16, zero), _mm_unpackhi_epi16(hi16, zero) };
-        for (int k = 0; k < 4; ++k)
-        {
-          const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + x_in + 4 * k + r + 1));
-          const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + x_in + 4 * k - r));
-          const __m128 mean = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(a, b)), inv_area);
-          const __m128 value = _mm_cvtepi32_ps(v32[k]);
-          cmp[k] = _mm_castps_si128(_mm_cmpgt_ps(value, _mm_add_ps(mean, off)));
-          _mm_storeu_ps(weight + x_in + 4 * k, _mm_sub_ps(value, mean));
-        }
-        const __m128i packed = _mm_packs_epi16(_mm_packs_epi32(cmp[0], cmp[1]), _mm_packs_epi32(cmp[2], cmp[3]));
-        const uint64_t m = static_cast<uint32_t>(_mm_movemask_epi8(packed));
-        if (m != 0)
-        {
-          const int shift = x_in & 63;
-          bits[x_in >> 6] |= m << shift;
-          if (shift > 48)
-            bits[(x_in >> 6) + 1] |= m >> (64 - shift);
-        }
-      }
-    }
-#endif
-    const float inv_area_in = 1.0f / static_cast<float>(area_in);
-    for (int x = x_in; x < hi; ++x)
-    {
-      if (static_cast<int32_t>(src[x]) * area_in > pre[x + r + 1] - pre[x - r] + offset_in)
-        setBit(x);
-      weight[x] = static_cast<float>(src[x]) - static_cast<float>(pre[x + r + 1] - pre[x - r]) * inv_area_in;
-    }
-    // The borders, where the window is cut by the image edge.
-    for (int x = 0; x < w; ++x)
-    {
-      if (x >= lo && x < hi)
-        x = hi;
-      if (x >= w)
-        break;
-      const int xa = std::max(0, x - r), xb = std::min(w, x + r + 1);
-      const int32_t area = rows * (xb - xa);
-      const int32_t off = static_cast<int32_t>(offset * static_cast<float>(area) + 0.5f);
-      if (static_cast<int32_t>(src[x]) * area > pre[xb] - pre[xa] + off)
-        setBit(x);
-      weight[x] = static_cast<float>(src[x]) - static_cast<float>(pre[xb] - pre[xa]) / static_cast<float>(area);
-    }
-
-    // Runs from the bit mask: the first set bit starts a run, the first clear bit after it ends it.
-    const int cur_begin = static_cast<int>(runs_.size());
-    int k = 0;
-    uint64_t m = bits[0];
-    for (;;)
-    {
-      while (m == 0 && ++k < words)
-        m = bits[k];
-      if (m == 0)
-        break;
-      const int b0 = __builtin_ctzll(m);
-      const int x0 = (k << 6) + b0;
-      uint64_t z = ~m & (~uint64_t{ 0 } << b0);
-      while (z == 0 && ++k < words)
-      {
-        m = bits[k];
-        z = ~m;
-      }
-      int x1 = w;
-      m = 0;
-      if (z != 0)
-      {
-        const int b1 = __builtin_ctzll(z);
-        x1 = (k << 6) + b1;
-        m = bits[k] & (~uint64_t{ 0 } << b1);  // the later runs of this word
-      }
-      float sw = 0.f, swx = 0.f, peak = 0.f;
-      for (int x = x0; x < x1; ++x)
-      {
-        const float wx = weight[x];
-        sw += wx;
-        swx += wx * static_cast<float>(x);
-        peak = std::max(peak, wx);
-      }
-      // Filled in place: a Run assembled on the stack and copied stalls on store forwarding.
-      runs_.emplace_back();
-      Run& run = runs_.back();
-      run.y = y;
-      run.x0 = x0;
-      run.x1 = x1;
-      run.parent = static_cast<int32_t>(runs_.size() - 1);
-      run.sw = sw;
-      run.swx = swx;
-      run.peak = peak;
-    }
-    const int cur_end = static_cast<int>(runs_.size());
-    linkRows(prev_begin, prev_end, cur_begin, cur_end);
-    prev_begin = cur_begin;
-    prev_end = cur_end;
-  }
-
+  thresholdAndLink(image);
   // Accumulate runs into components (roots are the first run of each component).
   blob_of_root_.assign(runs_.size(), -1);
   std::vector<Acc>& acc = acc_;

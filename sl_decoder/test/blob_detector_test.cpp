@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <opencv2/imgproc.hpp>
 
 #include "sl_decoder/blob_detector.h"
@@ -120,4 +122,80 @@ TEST(BlobDetector, SplittingDiagonalStripesStaysWithinTheirPixels)
   for (size_t i = 0; i < blobs.size(); ++i)
     for (size_t j = i + 1; j < blobs.size(); ++j)
       EXPECT_FALSE(blobs[i].u == blobs[j].u && blobs[i].v == blobs[j].v) << i << " " << j;
+}
+
+namespace
+{
+/// True when two blobs agree in every field, floats bit for bit.
+::testing::AssertionResult sameBlob(const Blob& a, const Blob& b)
+{
+  const int ia[] = { a.x0, a.y0, a.x1, a.y1, a.area, a.level, a.shape };
+  const int ib[] = { b.x0, b.y0, b.x1, b.y1, b.area, b.level, b.shape };
+  const float fa[] = { a.u, a.v, a.contrast, a.correlation, a.margin };
+  const float fb[] = { b.u, b.v, b.contrast, b.correlation, b.margin };
+  if (std::memcmp(ia, ib, sizeof ia) != 0 || std::memcmp(fa, fb, sizeof fa) != 0)
+    return ::testing::AssertionFailure() << "box (" << a.x0 << "," << a.y0 << ")-(" << a.x1 << "," << a.y1 << ") vs ("
+                                         << b.x0 << "," << b.y0 << ")-(" << b.x1 << "," << b.y1 << "), u " << a.u
+                                         << " vs " << b.u << ", contrast " << a.contrast << " vs " << b.contrast;
+  return ::testing::AssertionSuccess();
+}
+
+/// Noise, a gradient and blurred rectangles of many sizes: runs of every length, at every offset
+/// from the vector blocks and the image borders.
+cv::Mat randomScene(cv::RNG& rng, int w, int h)
+{
+  cv::Mat image(h, w, CV_8UC1);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      image.at<uint8_t>(v, u) = cv::saturate_cast<uint8_t>(20 + 60.0 * u / w + rng.gaussian(4.0));
+  const int n = rng.uniform(5, 60);
+  for (int i = 0; i < n; ++i)
+  {
+    const cv::Point p(rng.uniform(-5, w + 5), rng.uniform(-5, h + 5));
+    // Mostly primitive-sized, some merged bands and patches.
+    const cv::Size s = i % 4 == 0 ? cv::Size(rng.uniform(1, 40), rng.uniform(1, 30))
+                                  : cv::Size(rng.uniform(3, 12), rng.uniform(5, 16));
+    cv::rectangle(image, cv::Rect(p, s), cv::Scalar(rng.uniform(40, 256)), cv::FILLED);
+  }
+  cv::GaussianBlur(image, image, cv::Size(3, 3), 0.8);
+  return image;
+}
+}  // namespace
+
+// The local threshold has a portable, an SSE2 and an AVX2 path; they must give the same blobs, bit
+// for bit, so that results do not depend on the machine. Sizes and windows vary so that the vector
+// blocks, their scalar tails and the image borders all meet runs.
+TEST(BlobDetector, VectorPathsGiveIdenticalBlobs)
+{
+  cv::RNG rng(20261203);
+  const BlobDetector::Simd paths[] = { BlobDetector::Simd::Portable, BlobDetector::Simd::Sse2,
+                                       BlobDetector::Simd::Avx2 };
+  int compared = 0, blobs_seen = 0;
+  for (int trial = 0; trial < 60; ++trial)
+  {
+    const int w = trial < 3 ? 1 + trial * 7 : rng.uniform(20, 400), h = trial < 3 ? 5 : rng.uniform(1, 120);
+    const cv::Mat image = randomScene(rng, w, h);
+    DecoderConfig config;
+    config.threshold_window = 2 * rng.uniform(1, 12) + 1;
+    config.threshold_offset = rng.uniform(0.0, 8.0);
+    config.split_merged = trial % 2 == 0;
+    std::vector<Blob> reference, blobs;
+    BlobDetector detector(config);
+    detector.setPrimitiveSize(5.0, 9.0, 7.0);
+    ASSERT_EQ(detector.useSimd(BlobDetector::Simd::Portable), BlobDetector::Simd::Portable);
+    detector.detect(image, reference);
+    blobs_seen += static_cast<int>(reference.size());
+    for (BlobDetector::Simd path : paths)
+    {
+      if (detector.useSimd(path) != path)
+        continue;  // this CPU lacks it (then it cannot differ here either)
+      detector.detect(image, blobs);
+      ASSERT_EQ(blobs.size(), reference.size()) << "trial " << trial << " path " << static_cast<int>(path);
+      for (size_t i = 0; i < blobs.size(); ++i)
+        ASSERT_TRUE(sameBlob(blobs[i], reference[i])) << "trial " << trial << " blob " << i;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 120) << "the portable and SSE2 paths run everywhere on x86-64";
+  EXPECT_GT(blobs_seen, 500);
 }

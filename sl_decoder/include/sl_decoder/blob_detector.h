@@ -59,6 +59,18 @@ public:
   /// centroid are set by the detector (the box's centre; the decoder adds the shape's offset).
   static constexpr int kBandLevel = 7;
 
+  /// @brief Instruction sets of the local threshold. All give bit-identical blobs.
+  enum class Simd
+  {
+    Portable,  ///< plain C++
+    Sse2,      ///< x86-64 baseline
+    Avx2       ///< where the CPU has it (checked at run time)
+  };
+
+  /// @brief Uses @p simd, or the widest set below it that this CPU has; returns the set in use.
+  /// The default is the widest the CPU has; other choices are for tests and benchmarks.
+  Simd useSimd(Simd simd);
+
   /// @brief Number of components found before filtering in the last call.
   int componentCount() const { return components_; }
 
@@ -97,6 +109,12 @@ private:
   // library's PLT cost more than the work.
   inline int find(int i);
   inline void unite(int a, int b);
+  /// Thresholds every row, extracts its runs (with their sums) and links them to the row above.
+  void thresholdAndLink(const cv::Mat& image);
+  /// Appends the runs of row @p y from the bit mask bits_.
+  void extractRuns(int y, int w);
+  /// Sums the weights (weight_) of the runs [begin, end): sw, swx and peak.
+  void accumulateRuns(int begin, int end);
   /// Unites the runs [cur_begin, cur_end) of a row with the 8-connected ones of the row above.
   void linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end);
   /// True when a finished blob passes the size, aspect and fill filters.
@@ -126,10 +144,12 @@ private:
   void appendSpans(std::vector<Region>& regions);
 
   DecoderConfig config_;
-  std::vector<int32_t> col_sum_;  // column sums over the window rows of the current row
-  std::vector<int32_t> prefix_;   // prefix sums of col_sum_
-  std::vector<uint64_t> bits_;    // foreground flags of the current row, one bit per pixel
-  std::vector<float> weight_;     // value minus local mean of the current row's pixels
+  Simd simd_;
+  static constexpr int kRowBlock = 4;  // rows whose prefix sums are formed side by side
+  std::vector<int32_t> col_sums_;      // column sums over the window rows: kRowBlock + 1 rows
+  std::vector<int32_t> prefix_;        // prefix sums of the column sums: kRowBlock rows
+  std::vector<uint64_t> bits_;         // foreground flags of the current row, one bit per pixel
+  std::vector<float> weight_;          // value minus local mean of the current row's pixels
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
   std::vector<Acc> acc_;

@@ -1,0 +1,60 @@
+#pragma once
+/// @file local_threshold.h
+/// @brief The blob detector's per-row kernels (private to sl_decoder_core): sliding column sums,
+/// their prefix sums and the local-mean threshold of one row.
+///
+/// The threshold has a portable, an SSE2 and an AVX2 path. All three compute every interior pixel
+/// with the same float operations in the same order (no fused multiply-add), so they give
+/// bit-identical masks and weights; `BlobDetector.VectorPathsGiveIdenticalBlobs` checks it.
+
+#include <cstdint>
+
+namespace sl_decoder
+{
+namespace local_threshold
+{
+
+/// @brief The instruction sets a threshold can use.
+enum class Path
+{
+  Portable,  ///< plain C++
+  Sse2,      ///< 16 pixels at a time (x86-64 baseline)
+  Avx2       ///< 32 pixels at a time, where the CPU has AVX2
+};
+
+/// @brief The fastest path this CPU runs.
+Path fastestPath();
+
+/// @brief True when this CPU can run @p path.
+bool supported(Path path);
+
+/// @brief out[x] = in[x] + add[x] - sub[x] for x < w; @p add and @p sub may be null (nothing added
+/// or dropped). @p out must not alias @p in.
+void slideColumnSums(const int32_t* in, const uint8_t* add, const uint8_t* sub, int w, int32_t* out);
+
+/// @brief For each of @p n rows k: pre[k][0] = 0 and pre[k][x + 1] = pre[k][x] + v[k][x].
+/// Rows are summed side by side: a prefix sum is one long dependency chain, and four independent
+/// chains run in the time of about one.
+void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w);
+
+/// @brief One row of the local-mean threshold.
+struct RowInput
+{
+  const uint8_t* src = nullptr;  ///< the image row
+  const int32_t* pre = nullptr;  ///< prefix sums of the row's column sums (w + 1 values)
+  int w = 0;                     ///< row length, px
+  int r = 0;                     ///< half window, px
+  int rows = 0;                  ///< image rows inside the window (fewer at the top and bottom)
+  float offset = 0.f;            ///< grey levels above the local mean
+};
+
+/**
+ * @brief Sets bit x of @p bits for the pixels brighter than their window's mean plus the offset,
+ * and writes value - mean to weight[x] for every pixel.
+ * @param bits (w + 63) / 64 + 1 words, cleared here.
+ * @param weight w values.
+ */
+void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight);
+
+}  // namespace local_threshold
+}  // namespace sl_decoder

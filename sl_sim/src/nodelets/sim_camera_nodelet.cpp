@@ -132,6 +132,20 @@ SimParams readParams(const ros::NodeHandle& pnh)
   return p;
 }
 
+// A message holding a copy of a continuous image (the renderer's outputs are).
+sensor_msgs::ImagePtr toImageMsg(const cv::Mat& image, const std::string& encoding, const std_msgs::Header& header)
+{
+  sensor_msgs::ImagePtr msg(new sensor_msgs::Image);
+  msg->header = header;
+  msg->height = static_cast<uint32_t>(image.rows);
+  msg->width = static_cast<uint32_t>(image.cols);
+  msg->encoding = encoding;
+  msg->is_bigendian = 0;
+  msg->step = static_cast<uint32_t>(image.cols * image.elemSize());
+  msg->data.assign(image.data, image.data + image.total() * image.elemSize());
+  return msg;
+}
+
 Eigen::Isometry3d translationX(double x)
 {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -309,30 +323,11 @@ private:
     sensor_msgs::CameraInfo info = info_;
     info.header.stamp = stamp;
     if (want_image)
-    {
-      sensor_msgs::ImagePtr image(new sensor_msgs::Image);
-      image->header = info.header;
-      image->height = static_cast<uint32_t>(out_.image.rows);
-      image->width = static_cast<uint32_t>(out_.image.cols);
-      image->encoding = sensor_msgs::image_encodings::MONO8;
-      image->is_bigendian = 0;
-      image->step = static_cast<uint32_t>(out_.image.cols);
-      image->data.assign(out_.image.data, out_.image.data + out_.image.total());
-      image_pub_.publish(image, sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
-    }
+      image_pub_.publish(toImageMsg(out_.image, sensor_msgs::image_encodings::MONO8, info.header),
+                         sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
     if (want_depth)
-    {
-      sensor_msgs::ImagePtr depth(new sensor_msgs::Image);
-      depth->header = info.header;
-      depth->height = static_cast<uint32_t>(out_.depth.rows);
-      depth->width = static_cast<uint32_t>(out_.depth.cols);
-      depth->encoding = sensor_msgs::image_encodings::TYPE_32FC1;
-      depth->is_bigendian = 0;
-      depth->step = static_cast<uint32_t>(out_.depth.cols * sizeof(float));
-      const uint8_t* data = out_.depth.data;
-      depth->data.assign(data, data + out_.depth.total() * sizeof(float));
-      depth_pub_.publish(depth, sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
-    }
+      depth_pub_.publish(toImageMsg(out_.depth, sensor_msgs::image_encodings::TYPE_32FC1, info.header),
+                         sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
   }
 
   SimParams p_;

@@ -75,6 +75,15 @@ const char* reportedModeName(int mode)
     return "unknown";
   return oiModeName(static_cast<OiMode>(mode));
 }
+
+// Summary of a diagnostic that is either fine or worth a warning.
+void summarizeOkOrWarn(diagnostic_updater::DiagnosticStatusWrapper& st, bool warn, const std::string& warning)
+{
+  if (warn)
+    st.summary(diagnostic_msgs::DiagnosticStatus::WARN, warning);
+  else
+    st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+}
 }  // namespace
 
 /// @brief Nodelet create_driver/driver (see README.md for its ROS interface).
@@ -599,10 +608,7 @@ private:
     last_diag_time_ = now;
     last_valid_frames_ = c.valid_frames;
     last_corrupt_frames_ = c.corrupt_frames;
-    if (new_corrupt)
-      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, "corrupt frames on the line");
-    else
-      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    summarizeOkOrWarn(st, new_corrupt, "corrupt frames on the line");
     st.add("valid frames", c.valid_frames);
     st.add("corrupt frames", c.corrupt_frames);
     st.add("total frames", c.totalFrames());
@@ -622,8 +628,7 @@ private:
     }
     const bool new_overruns = ls.overruns > last_overruns_;
     last_overruns_ = ls.overruns;
-    st.summary(new_overruns ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
-               new_overruns ? "control loop overruns" : "ok");
+    summarizeOkOrWarn(st, new_overruns, "control loop overruns");
     st.add("loop ticks", ls.ticks);
     st.add("loop overruns", ls.overruns);
     st.add("max lateness (s)", ls.max_lateness);
@@ -638,10 +643,7 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     const HazardLatch& l = core_->latch();
     const int reported = core_->reportedMode();
-    if (l.latched())
-      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("hazard latched: ") + hazardName(l.reason()));
-    else
-      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    summarizeOkOrWarn(st, l.latched(), std::string("hazard latched: ") + hazardName(l.reason()));
     st.add("latched", l.latched());
     st.add("latch reason", hazardName(l.reason()));
     st.add("hazard stops", core_->stats().hazard_stops);
@@ -666,8 +668,7 @@ private:
     }
     const double cap = s.get(packet::BATTERY_CAPACITY);
     const double pct = cap > 0 ? 100.0 * s.get(packet::BATTERY_CHARGE) / cap : 0.0;
-    st.summary(pct < 15.0 ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
-               pct < 15.0 ? "battery low" : "ok");
+    summarizeOkOrWarn(st, pct < 15.0, "battery low");
     st.add("voltage (V)", s.get(packet::VOLTAGE) / 1000.0);
     st.add("current (A)", s.get(packet::CURRENT) / 1000.0);
     st.add("charge (Ah)", s.get(packet::BATTERY_CHARGE) / 1000.0);

@@ -251,8 +251,17 @@ struct Renderer::Impl
   // Stages 2 and 3 (renderer_trace.cpp): rays per tile through the kernels, anti-aliasing of edges.
   uint32_t nextMark();
   void trace(sim::Lanes& b, const float* dx, const float* dy, int n, const sim::Segment* segments, int n_segments);
+  // The steps of trace().
+  void findNearestHits(sim::Lanes& b, const float* dx, const float* dy, int n, const sim::Segment* segments,
+                       int n_segments);
+  void shadeSurfaces(sim::Lanes& b, const float* dx, const float* dy, int n);
+  void castShadowRays(sim::Lanes& b, int n);
+  void gatherOccluders(const float* box, uint32_t mark);
+  void addRadiance(sim::Lanes& b, const float* dx, const float* dy, int n);
   void castPrimary(RenderOutput& out);
   void antialias();
+  void queueEdgeRays(int tx, int ty, int& n);
+  void traceAntialiasBatch(int& n);
 
   // Stages 4 and 5 (renderer_sensor.cpp): camera defocus and glare, then the sensor.
   int cameraLevelsNeeded() const;

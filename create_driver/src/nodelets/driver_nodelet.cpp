@@ -425,6 +425,21 @@ private:
   void publish(const Snapshot& s, double now)
   {
     const ros::Time stamp = ros::Time::now();
+    publishOdometry(s, stamp);
+    publishHazards(s, stamp, now);
+    if (now - last_battery_time_ >= 1.0)
+    {
+      last_battery_time_ = now;
+      battery_pub_.publish(batteryMessage(s.sensors, stamp));
+    }
+    if (s.reported_mode != last_published_mode_)
+      publishMode();
+    publishGoalFeedback(s, now);
+  }
+
+  // Odometry and its transform (when publish_tf).
+  void publishOdometry(const Snapshot& s, const ros::Time& stamp)
+  {
     nav_msgs::Odometry odom;
     odom.header.stamp = stamp;
     odom.header.frame_id = odom_frame_;
@@ -452,7 +467,11 @@ private:
       t.transform.rotation = odom.pose.pose.orientation;
       tf_->sendTransform(t);
     }
+  }
 
+  // Hazards when they change, else at 10 Hz.
+  void publishHazards(const Snapshot& s, const ros::Time& stamp, double now)
+  {
     Hazards hz;
     hz.header.stamp = stamp;
     hz.header.frame_id = base_frame_;
@@ -480,15 +499,11 @@ private:
       last_hazards_ = hz;
       last_hazards_time_ = now;
     }
+  }
 
-    if (now - last_battery_time_ >= 1.0)
-    {
-      last_battery_time_ = now;
-      battery_pub_.publish(batteryMessage(s.sensors, stamp));
-    }
-    if (s.reported_mode != last_published_mode_)
-      publishMode();
-
+  // Feedback of the active distance goal at 10 Hz.
+  void publishGoalFeedback(const Snapshot& s, double now)
+  {
     if (s.progress.active && now - last_feedback_time_ >= 0.1)
     {
       last_feedback_time_ = now;

@@ -212,6 +212,23 @@ void DriverCore::control(double now, Bytes& out)
 {
   if (!connected_)
     return;
+  if (!runStartSequence(now, out))
+    return;
+  const double dt = std::clamp(now - last_control_, 0.0, 0.1);
+  last_control_ = now;
+  bool emergency = force_stop_;
+  force_stop_ = false;
+  double v = 0.0;
+  double w = 0.0;
+  if (!commandedVelocity(now, emergency, v, w))
+    return;  // the robot executes the Wait Distance script by itself and ignores commands meanwhile
+  limitVelocity(dt, emergency, v, w);
+  reassertMode(v, w, now, out);
+  sendMotionIfDue(v, w, now, out);
+}
+
+bool DriverCore::runStartSequence(double now, Bytes& out)
+{
   if (start_phase_ == 1 && now - start_time_ >= config_.start_gap)
   {
     if (config_.mode != OiMode::PASSIVE)
@@ -221,26 +238,21 @@ void DriverCore::control(double now, Bytes& out)
     start_phase_ = 2;
     last_mode_sent_ = now;
   }
-  if (!have_frame_)
+  if (have_frame_)
+    return true;
+  if (start_phase_ == 2 && now - start_time_ >= config_.start_retry)
   {
-    if (start_phase_ == 2 && now - start_time_ >= config_.start_retry)
-    {
-      appendStart(out);
-      start_phase_ = 1;
-      start_time_ = now;
-      ++stats_.start_sequences;
-    }
-    last_control_ = now;
-    return;
+    appendStart(out);
+    start_phase_ = 1;
+    start_time_ = now;
+    ++stats_.start_sequences;
   }
-
-  const double dt = std::clamp(now - last_control_, 0.0, 0.1);
   last_control_ = now;
-  double v = 0.0;
-  double w = 0.0;
-  bool emergency = force_stop_;
-  force_stop_ = false;
+  return false;
+}
 
+bool DriverCore::commandedVelocity(double now, bool& emergency, double& v, double& w)
+{
   if (dd_.active())
   {
     const DriveDistanceController::Output o = dd_.update(odometry_.distance(), odometry_.yawContinuous(), now);
@@ -252,8 +264,7 @@ void DriverCore::control(double now, Bytes& out)
     }
     else if (wd_active_)
     {
-      // The robot executes the Wait Distance script by itself and ignores commands meanwhile.
-      return;
+      return false;
     }
     else
     {
@@ -275,7 +286,11 @@ void DriverCore::control(double now, Bytes& out)
       w = cmd_angular_;
     }
   }
+  return true;
+}
 
+void DriverCore::limitVelocity(double dt, bool emergency, double& v, double& w)
+{
   if (latch_.latched() && !latch_.allows(v))
   {
     v = 0.0;
@@ -296,7 +311,10 @@ void DriverCore::control(double now, Bytes& out)
   {
     limiter_.limit(v, w, dt, v, w);
   }
+}
 
+void DriverCore::reassertMode(double v, double w, double now, Bytes& out)
+{
   const bool moving = std::fabs(v) > 1e-4 || std::fabs(w) > 1e-4;
   if (moving && config_.mode != OiMode::PASSIVE && reported_mode_ >= 0 &&
       reported_mode_ != static_cast<int>(config_.mode) && now - last_mode_sent_ >= config_.mode_retry)
@@ -306,8 +324,11 @@ void DriverCore::control(double now, Bytes& out)
     ++stats_.mode_reasserts;
     have_sent_ = false;  // follow the mode change with the motion command
   }
+}
 
-  // Encode; send when changed or due for a refresh.
+void DriverCore::sendMotionIfDue(double v, double w, double now, Bytes& out)
+{
+  // The command as encoded on the wire: sent when it changed or is due for a refresh.
   int a = 0;
   int b = 0;
   if (config_.drive_type == DriveCommandType::DIRECT)

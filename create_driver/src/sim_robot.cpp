@@ -219,7 +219,59 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
 {
   ++commands_;
   const uint8_t op = cmd[0];
-  const bool actuators = mode_ == OiMode::SAFE || mode_ == OiMode::FULL;
+  switch (op)
+  {
+    case oi::START:
+    case oi::CONTROL:
+    case oi::SAFE:
+    case oi::FULL:
+    case oi::POWER:
+    case oi::SPOT:
+    case oi::COVER:
+    case oi::DEMO:
+    case oi::COVER_AND_DOCK:
+    case oi::STOP:
+      executeMode(op);
+      break;
+    case oi::DRIVE:
+    case oi::DRIVE_DIRECT:
+    case oi::DRIVE_PWM:
+      if (mode_ == OiMode::SAFE || mode_ == OiMode::FULL)
+        executeDrive(cmd);
+      break;
+    case oi::SENSORS:
+    case oi::QUERY_LIST:
+    case oi::STREAM:
+    case oi::PAUSE_RESUME_STREAM:
+      executeSensors(cmd, len);
+      break;
+    case oi::SCRIPT:
+    case oi::PLAY_SCRIPT:
+    case oi::SHOW_SCRIPT:
+      executeScript(cmd, len);
+      break;
+    case oi::WAIT_TIME:
+    case oi::WAIT_DISTANCE:
+    case oi::WAIT_ANGLE:
+    case oi::WAIT_EVENT:
+      startWait(cmd);
+      break;
+    case oi::BAUD:
+      // The pty has no baud rate; the rate only sizes the stream slot.
+      if (cmd[1] < sizeof(kBaudRates) / sizeof(kBaudRates[0]))
+        baud_ = kBaudRates[cmd[1]];
+      break;
+    default:
+      // Songs, LEDs, low side drivers, outputs, IR, Create 2 schedule/LED/button commands:
+      // accepted and ignored.
+      break;
+  }
+  if (wait_ != WaitKind::NONE && waitDone())
+    wait_ = WaitKind::NONE;
+}
+
+void SimRobot::executeMode(uint8_t op)
+{
   switch (op)
   {
     case oi::START:
@@ -232,47 +284,55 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
     case oi::FULL:
       setMode(OiMode::FULL);
       break;
-    case oi::POWER:
-    case oi::SPOT:
-    case oi::COVER:
-    case oi::DEMO:
-    case oi::COVER_AND_DOCK:
-      // Built-in behaviours are not simulated; like the real robot the OI goes to Passive.
-      setMode(OiMode::PASSIVE);
-      break;
     case oi::STOP:
       setMode(OiMode::OFF);
       stream_ids_.clear();
       break;
+    default:
+      // Built-in behaviours (Power, Spot, Cover, Demo, Cover and Dock) are not simulated; like the
+      // real robot the OI goes to Passive.
+      setMode(OiMode::PASSIVE);
+      break;
+  }
+}
+
+void SimRobot::executeDrive(const uint8_t* cmd)
+{
+  switch (cmd[0])
+  {
     case oi::DRIVE:
-      if (actuators)
-      {
-        const int v = std::clamp<int>(oi::readInt16(cmd + 1), -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
-        const int r = oi::readInt16(cmd + 3);
-        const WheelSpeeds w = driveRadiusToWheels(v, r, wheel_base_);
-        setWheels(w.left, w.right);
-        req_velocity_ = v;
-        req_radius_ = r;
-      }
+    {
+      const int v = std::clamp<int>(oi::readInt16(cmd + 1), -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
+      const int r = oi::readInt16(cmd + 3);
+      const WheelSpeeds w = driveRadiusToWheels(v, r, wheel_base_);
+      setWheels(w.left, w.right);
+      req_velocity_ = v;
+      req_radius_ = r;
       break;
+    }
     case oi::DRIVE_DIRECT:
-      if (actuators)
-      {
-        const int right = std::clamp<int>(oi::readInt16(cmd + 1), -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
-        const int left = std::clamp<int>(oi::readInt16(cmd + 3), -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
-        setWheels(left / 1000.0, right / 1000.0);
-        req_velocity_ = (left + right) / 2;
-        req_radius_ = 0;
-      }
+    {
+      const int right = std::clamp<int>(oi::readInt16(cmd + 1), -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
+      const int left = std::clamp<int>(oi::readInt16(cmd + 3), -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S);
+      setWheels(left / 1000.0, right / 1000.0);
+      req_velocity_ = (left + right) / 2;
+      req_radius_ = 0;
       break;
-    case oi::DRIVE_PWM:
-      if (actuators)
-      {
-        const int right = std::clamp<int>(oi::readInt16(cmd + 1), -255, 255);
-        const int left = std::clamp<int>(oi::readInt16(cmd + 3), -255, 255);
-        setWheels(0.5 * left / 255.0, 0.5 * right / 255.0);
-      }
+    }
+    default:  // Drive PWM
+    {
+      const int right = std::clamp<int>(oi::readInt16(cmd + 1), -255, 255);
+      const int left = std::clamp<int>(oi::readInt16(cmd + 3), -255, 255);
+      setWheels(0.5 * left / 255.0, 0.5 * right / 255.0);
       break;
+    }
+  }
+}
+
+void SimRobot::executeSensors(const uint8_t* cmd, size_t len)
+{
+  switch (cmd[0])
+  {
     case oi::SENSORS:
       if (isValidPacket(cmd[1], params_.model))
       {
@@ -289,35 +349,45 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       emit(frame_);
       break;
     case oi::STREAM:
-    {
-      // The frame's n-bytes counts ids and data. Over 255 it cannot be sent at all (the length
-      // byte was clamped and every frame was corrupt); over the slot a real robot's frames
-      // overrun each other. Either way the request is refused and the previous stream kept.
-      size_t payload = 0;
-      for (size_t i = 2; i < len; ++i)
-        if (isValidPacket(cmd[i], params_.model))
-          payload += 1 + packetSize(cmd[i], params_.model);
-      const size_t limit = streamPayloadLimit();
-      if (payload > limit)
-      {
-        refuse("Stream refused: " + std::to_string(payload) + " payload bytes, more than the " + std::to_string(limit) +
-               " that fit a " + std::to_string(std::lround(params_.stream_period * 1000.0)) + " ms frame at " +
-               std::to_string(baud_) + " baud; the previous stream continues");
-        break;
-      }
-      stream_ids_.clear();
-      for (size_t i = 2; i < len; ++i)
-        if (isValidPacket(cmd[i], params_.model))
-          stream_ids_.push_back(cmd[i]);
-      stream_paused_ = false;
-      stream_phase_ = 0.0;
+      requestStream(cmd, len);
       break;
-    }
-    case oi::PAUSE_RESUME_STREAM:
+    default:  // Pause/Resume Stream
       if (stream_paused_ && cmd[1] != 0)
         stream_phase_ = 0.0;
       stream_paused_ = cmd[1] == 0;
       break;
+  }
+}
+
+void SimRobot::requestStream(const uint8_t* cmd, size_t len)
+{
+  // The frame's n-bytes counts ids and data. Over 255 it cannot be sent at all (the length
+  // byte was clamped and every frame was corrupt); over the slot a real robot's frames
+  // overrun each other. Either way the request is refused and the previous stream kept.
+  size_t payload = 0;
+  for (size_t i = 2; i < len; ++i)
+    if (isValidPacket(cmd[i], params_.model))
+      payload += 1 + packetSize(cmd[i], params_.model);
+  const size_t limit = streamPayloadLimit();
+  if (payload > limit)
+  {
+    refuse("Stream refused: " + std::to_string(payload) + " payload bytes, more than the " + std::to_string(limit) +
+           " that fit a " + std::to_string(std::lround(params_.stream_period * 1000.0)) + " ms frame at " +
+           std::to_string(baud_) + " baud; the previous stream continues");
+    return;
+  }
+  stream_ids_.clear();
+  for (size_t i = 2; i < len; ++i)
+    if (isValidPacket(cmd[i], params_.model))
+      stream_ids_.push_back(cmd[i]);
+  stream_paused_ = false;
+  stream_phase_ = 0.0;
+}
+
+void SimRobot::executeScript(const uint8_t* cmd, size_t len)
+{
+  switch (cmd[0])
+  {
     case oi::SCRIPT:
       script_.assign(cmd + 2, cmd + std::min(len, 2 + kMaxScript));
       break;
@@ -332,12 +402,19 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       input_.insert(input_.begin(), script_.begin(), script_.end());
       script_queued_ = script_.size();
       break;
-    case oi::SHOW_SCRIPT:
+    default:  // Show Script
       frame_.clear();
       frame_.push_back(static_cast<uint8_t>(script_.size()));
       frame_.insert(frame_.end(), script_.begin(), script_.end());
       emit(frame_);
       break;
+  }
+}
+
+void SimRobot::startWait(const uint8_t* cmd)
+{
+  switch (cmd[0])
+  {
     case oi::WAIT_TIME:
       wait_ = WaitKind::TIME;
       wait_target_ = cmd[1] / 10.0;
@@ -353,22 +430,11 @@ void SimRobot::execute(const uint8_t* cmd, size_t len)
       wait_target_ = oi::readInt16(cmd + 1);
       wait_progress_ = 0.0;
       break;
-    case oi::WAIT_EVENT:
+    default:  // Wait Event
       wait_ = WaitKind::EVENT;
       wait_event_ = static_cast<int8_t>(cmd[1]);
       break;
-    case oi::BAUD:
-      // The pty has no baud rate; the rate only sizes the stream slot.
-      if (cmd[1] < sizeof(kBaudRates) / sizeof(kBaudRates[0]))
-        baud_ = kBaudRates[cmd[1]];
-      break;
-    default:
-      // Songs, LEDs, low side drivers, outputs, IR, Create 2 schedule/LED/button commands:
-      // accepted and ignored.
-      break;
   }
-  if (wait_ != WaitKind::NONE && waitDone())
-    wait_ = WaitKind::NONE;
 }
 
 bool SimRobot::eventTrue(int event) const

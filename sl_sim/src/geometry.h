@@ -91,78 +91,89 @@ struct PreparedObject
    */
   bool intersect(const Vec3& origin_local, const Vec3& d, S t_min, S t_max, S& t, int& part) const
   {
-    const Vec3& o = origin_local;
     if (type == ObjectType::Plane)
-    {
-      const S dz = axes.col(2).dot(d);
-      if (dz == S(0))
-        return false;
-      const S th = -o.z() / dz;
-      if (!(th > t_min && th < t_max))
-        return false;
-      if (!infinite)
-      {
-        const S x = o.x() + th * axes.col(0).dot(d);
-        const S y = o.y() + th * axes.col(1).dot(d);
-        if (std::abs(x) > half.x() || std::abs(y) > half.y())
-          return false;
-      }
-      t = th;
-      part = 0;
-      return true;
-    }
+      return intersectPlane(origin_local, d, t_min, t_max, t, part);
     const Vec3 dl = axes.transpose() * d;
     if (type == ObjectType::Box)
-    {
-      S t_near = -std::numeric_limits<S>::infinity(), t_far = std::numeric_limits<S>::infinity();
-      int near_axis = 0, far_axis = 0;
-      bool near_neg = false, far_neg = false;
-      for (int i = 0; i < 3; ++i)
-      {
-        if (dl[i] == S(0))
-        {
-          if (std::abs(o[i]) > half[i])
-            return false;
-          continue;
-        }
-        const S inv = S(1) / dl[i];
-        S t0 = (-half[i] - o[i]) * inv;  // entry through the -i face when dl > 0
-        S t1 = (half[i] - o[i]) * inv;
-        bool neg0 = true;
-        if (t0 > t1)
-        {
-          std::swap(t0, t1);
-          neg0 = false;
-        }
-        if (t0 > t_near)
-        {
-          t_near = t0;
-          near_axis = i;
-          near_neg = neg0;
-        }
-        if (t1 < t_far)
-        {
-          t_far = t1;
-          far_axis = i;
-          far_neg = !neg0;
-        }
-      }
-      if (t_near > t_far)
-        return false;
-      if (t_near > t_min && t_near < t_max)
-      {
-        t = t_near;
-        part = 2 * near_axis + (near_neg ? 1 : 0);
-        return true;
-      }
-      if (t_far > t_min && t_far < t_max)
-      {
-        t = t_far;
-        part = 2 * far_axis + (far_neg ? 1 : 0);
-        return true;
-      }
+      return intersectBox(origin_local, dl, t_min, t_max, t, part);
+    return intersectCylinder(origin_local, dl, t_min, t_max, t, part);
+  }
+
+  // intersect() by type; @p d in the frame, @p dl the direction in local coordinates.
+  bool intersectPlane(const Vec3& o, const Vec3& d, S t_min, S t_max, S& t, int& part) const
+  {
+    const S dz = axes.col(2).dot(d);
+    if (dz == S(0))
       return false;
+    const S th = -o.z() / dz;
+    if (!(th > t_min && th < t_max))
+      return false;
+    if (!infinite)
+    {
+      const S x = o.x() + th * axes.col(0).dot(d);
+      const S y = o.y() + th * axes.col(1).dot(d);
+      if (std::abs(x) > half.x() || std::abs(y) > half.y())
+        return false;
     }
+    t = th;
+    part = 0;
+    return true;
+  }
+
+  bool intersectBox(const Vec3& o, const Vec3& dl, S t_min, S t_max, S& t, int& part) const
+  {
+    S t_near = -std::numeric_limits<S>::infinity(), t_far = std::numeric_limits<S>::infinity();
+    int near_axis = 0, far_axis = 0;
+    bool near_neg = false, far_neg = false;
+    for (int i = 0; i < 3; ++i)
+    {
+      if (dl[i] == S(0))
+      {
+        if (std::abs(o[i]) > half[i])
+          return false;
+        continue;
+      }
+      const S inv = S(1) / dl[i];
+      S t0 = (-half[i] - o[i]) * inv;  // entry through the -i face when dl > 0
+      S t1 = (half[i] - o[i]) * inv;
+      bool neg0 = true;
+      if (t0 > t1)
+      {
+        std::swap(t0, t1);
+        neg0 = false;
+      }
+      if (t0 > t_near)
+      {
+        t_near = t0;
+        near_axis = i;
+        near_neg = neg0;
+      }
+      if (t1 < t_far)
+      {
+        t_far = t1;
+        far_axis = i;
+        far_neg = !neg0;
+      }
+    }
+    if (t_near > t_far)
+      return false;
+    if (t_near > t_min && t_near < t_max)
+    {
+      t = t_near;
+      part = 2 * near_axis + (near_neg ? 1 : 0);
+      return true;
+    }
+    if (t_far > t_min && t_far < t_max)
+    {
+      t = t_far;
+      part = 2 * far_axis + (far_neg ? 1 : 0);
+      return true;
+    }
+    return false;
+  }
+
+  bool intersectCylinder(const Vec3& o, const Vec3& dl, S t_min, S t_max, S& t, int& part) const
+  {
     // Cylinder: side x^2 + y^2 = r^2 with |z| <= h, caps z = +-h with x^2 + y^2 <= r^2.
     const S r = half.x(), h = half.z();
     S best = t_max;

@@ -3,6 +3,8 @@
 // arrays, up to kLanes) with branch-free loops that the compiler vectorises; on x86-64 each kernel
 // is also built for x86-64-v3 (AVX2, FMA) and chosen at run time; the kernels that need gathers
 // (pattern and noise lookups) have AVX2 versions written out, chosen at run time as well.
+// Implemented by stage in lanes_intersect.cpp, lanes_surface.cpp, lanes_projector.cpp and
+// lanes_image.cpp (shared helpers: lanes_common.h).
 #include <cstdint>
 
 namespace sl_sim

@@ -18,58 +18,53 @@ struct Field
   std::function<bool&(SimSettings&)> b;    // bool fields
 };
 
-#define SL_DOUBLE(field, unit, desc)                                        \
-  Field                                                                     \
-  {                                                                         \
-    SimSettingInfo{ #field, SimSettingInfo::Kind::Double, unit, desc },     \
-        [](SimSettings& s) -> double& { return s.field; }, nullptr, nullptr \
-  }
-#define SL_INT(field, unit, desc)                                             \
-  Field                                                                       \
-  {                                                                           \
-    SimSettingInfo{ #field, SimSettingInfo::Kind::Int, unit, desc }, nullptr, \
-        [](SimSettings& s) -> int& { return s.field; }, nullptr               \
-  }
-#define SL_BOOL(field, desc)                                                          \
-  Field                                                                               \
-  {                                                                                   \
-    SimSettingInfo{ #field, SimSettingInfo::Kind::Bool, "", desc }, nullptr, nullptr, \
-        [](SimSettings& s) -> bool& { return s.field; }                               \
-  }
+// A setting's Field; the accessor's type gives the kind.
+Field makeField(const char* name, const char* unit, const char* desc, double& (*get)(SimSettings&))
+{
+  return Field{ SimSettingInfo{ name, SimSettingInfo::Kind::Double, unit, desc }, get, nullptr, nullptr };
+}
+Field makeField(const char* name, const char* unit, const char* desc, int& (*get)(SimSettings&))
+{
+  return Field{ SimSettingInfo{ name, SimSettingInfo::Kind::Int, unit, desc }, nullptr, get, nullptr };
+}
+Field makeField(const char* name, const char* unit, const char* desc, bool& (*get)(SimSettings&))
+{
+  return Field{ SimSettingInfo{ name, SimSettingInfo::Kind::Bool, unit, desc }, nullptr, nullptr, get };
+}
+#define SL_FIELD(field, unit, desc) \
+  makeField(#field, unit, desc, [](SimSettings& s) -> decltype((s.field)) { return s.field; })
 
 const std::vector<Field>& fields()
 {
   static const std::vector<Field> table = {
-    SL_DOUBLE(projector_power, "",
-              "irradiance of a white projector pixel at the projector focus distance, normal incidence"),
-    SL_DOUBLE(projector_black_level, "", "irradiance of a black projector pixel relative to a white one"),
-    SL_DOUBLE(projector_vignetting, "", "projector irradiance at the frame corners relative to the centre"),
-    SL_DOUBLE(ambient, "", "ambient irradiance, in units of projector_power"),
-    SL_DOUBLE(projector_focus_distance, "m", "projector focus distance"),
-    SL_DOUBLE(projector_f_number, "", "projector lens f-number"),
-    SL_DOUBLE(projector_pixel_size, "m", "projector mirror pitch"),
-    SL_DOUBLE(projector_base_blur, "projector px", "projector blur at focus (Gaussian sigma)"),
-    SL_DOUBLE(camera_focus_distance, "m", "camera focus distance"),
-    SL_DOUBLE(camera_f_number, "", "camera lens f-number"),
-    SL_DOUBLE(camera_pixel_size, "m", "camera pixel pitch"),
-    SL_DOUBLE(camera_base_blur, "camera px", "camera blur at focus (Gaussian sigma)"),
-    SL_BOOL(defocus, "thin-lens defocus blur of projector and camera"),
-    SL_BOOL(shadows, "projector shadows: points the projector cannot see get no pattern"),
-    SL_BOOL(irradiance_falloff, "projector irradiance falls with distance squared and incidence cosine"),
-    SL_INT(antialias, "rays", "rays per edge pixel: 1 (off), 4 or 16"),
-    SL_DOUBLE(vignetting, "", "image-corner illumination relative to the centre"),
-    SL_DOUBLE(glare, "", "fraction of light scattered into a wide halo (sigma 10 px)"),
-    SL_DOUBLE(exposure, "", "gain from scene radiance to sensor full scale"),
-    SL_DOUBLE(full_well, "e-", "electrons at full scale (shot noise)"),
-    SL_DOUBLE(read_noise, "DN", "read noise (8-bit scale, before gamma)"),
-    SL_BOOL(noise, "shot and read noise on"),
-    SL_DOUBLE(gamma, "", "output = 255 * signal^(1/gamma)"),
+    SL_FIELD(projector_power, "",
+             "irradiance of a white projector pixel at the projector focus distance, normal incidence"),
+    SL_FIELD(projector_black_level, "", "irradiance of a black projector pixel relative to a white one"),
+    SL_FIELD(projector_vignetting, "", "projector irradiance at the frame corners relative to the centre"),
+    SL_FIELD(ambient, "", "ambient irradiance, in units of projector_power"),
+    SL_FIELD(projector_focus_distance, "m", "projector focus distance"),
+    SL_FIELD(projector_f_number, "", "projector lens f-number"),
+    SL_FIELD(projector_pixel_size, "m", "projector mirror pitch"),
+    SL_FIELD(projector_base_blur, "projector px", "projector blur at focus (Gaussian sigma)"),
+    SL_FIELD(camera_focus_distance, "m", "camera focus distance"),
+    SL_FIELD(camera_f_number, "", "camera lens f-number"),
+    SL_FIELD(camera_pixel_size, "m", "camera pixel pitch"),
+    SL_FIELD(camera_base_blur, "camera px", "camera blur at focus (Gaussian sigma)"),
+    SL_FIELD(defocus, "", "thin-lens defocus blur of projector and camera"),
+    SL_FIELD(shadows, "", "projector shadows: points the projector cannot see get no pattern"),
+    SL_FIELD(irradiance_falloff, "", "projector irradiance falls with distance squared and incidence cosine"),
+    SL_FIELD(antialias, "rays", "rays per edge pixel: 1 (off), 4 or 16"),
+    SL_FIELD(vignetting, "", "image-corner illumination relative to the centre"),
+    SL_FIELD(glare, "", "fraction of light scattered into a wide halo (sigma 10 px)"),
+    SL_FIELD(exposure, "", "gain from scene radiance to sensor full scale"),
+    SL_FIELD(full_well, "e-", "electrons at full scale (shot noise)"),
+    SL_FIELD(read_noise, "DN", "read noise (8-bit scale, before gamma)"),
+    SL_FIELD(noise, "", "shot and read noise on"),
+    SL_FIELD(gamma, "", "output = 255 * signal^(1/gamma)"),
   };
   return table;
 }
-#undef SL_DOUBLE
-#undef SL_INT
-#undef SL_BOOL
+#undef SL_FIELD
 
 const Field& field(const std::string& name)
 {
@@ -88,6 +83,16 @@ void require(bool ok, const std::string& message)
 bool finitePositive(double v)
 {
   return std::isfinite(v) && v > 0.0;
+}
+
+bool nonNegative(double v)
+{
+  return std::isfinite(v) && v >= 0.0;
+}
+
+bool inRange(double v, double lo, double hi)
+{
+  return std::isfinite(v) && v >= lo && v <= hi;
 }
 }  // namespace
 
@@ -139,30 +144,27 @@ double getSimSetting(const SimSettings& settings, const std::string& name)
 
 void SimSettings::validate() const
 {
-  require(std::isfinite(projector_power) && projector_power >= 0.0, "projector_power: must be >= 0");
-  require(std::isfinite(projector_black_level) && projector_black_level >= 0.0 && projector_black_level <= 1.0,
-          "projector_black_level: must be in 0..1");
-  require(std::isfinite(projector_vignetting) && projector_vignetting > 0.0 && projector_vignetting <= 1.0,
+  require(nonNegative(projector_power), "projector_power: must be >= 0");
+  require(inRange(projector_black_level, 0.0, 1.0), "projector_black_level: must be in 0..1");
+  require(finitePositive(projector_vignetting) && projector_vignetting <= 1.0,
           "projector_vignetting: must be in (0, 1]");
-  require(std::isfinite(ambient) && ambient >= 0.0, "ambient: must be >= 0");
+  require(nonNegative(ambient), "ambient: must be >= 0");
   require(finitePositive(projector_focus_distance), "projector_focus_distance: must be > 0 m");
   require(finitePositive(projector_f_number), "projector_f_number: must be > 0");
   require(finitePositive(projector_pixel_size) && projector_pixel_size < 1e-3,
           "projector_pixel_size: must be a pitch in metres, > 0 and < 1 mm");
-  require(std::isfinite(projector_base_blur) && projector_base_blur >= 0.0 && projector_base_blur <= 20.0,
-          "projector_base_blur: must be in 0..20 px");
+  require(inRange(projector_base_blur, 0.0, 20.0), "projector_base_blur: must be in 0..20 px");
   require(finitePositive(camera_focus_distance), "camera_focus_distance: must be > 0 m");
   require(finitePositive(camera_f_number), "camera_f_number: must be > 0");
   require(finitePositive(camera_pixel_size) && camera_pixel_size < 1e-3,
           "camera_pixel_size: must be a pitch in metres, > 0 and < 1 mm");
-  require(std::isfinite(camera_base_blur) && camera_base_blur >= 0.0 && camera_base_blur <= 20.0,
-          "camera_base_blur: must be in 0..20 px");
+  require(inRange(camera_base_blur, 0.0, 20.0), "camera_base_blur: must be in 0..20 px");
   require(antialias == 1 || antialias == 4 || antialias == 16, "antialias: must be 1, 4 or 16");
-  require(std::isfinite(vignetting) && vignetting > 0.0 && vignetting <= 1.0, "vignetting: must be in (0, 1]");
-  require(std::isfinite(glare) && glare >= 0.0 && glare <= 0.5, "glare: must be in 0..0.5");
-  require(std::isfinite(exposure) && exposure >= 0.0, "exposure: must be >= 0");
+  require(finitePositive(vignetting) && vignetting <= 1.0, "vignetting: must be in (0, 1]");
+  require(inRange(glare, 0.0, 0.5), "glare: must be in 0..0.5");
+  require(nonNegative(exposure), "exposure: must be >= 0");
   require(finitePositive(full_well), "full_well: must be > 0 electrons");
-  require(std::isfinite(read_noise) && read_noise >= 0.0, "read_noise: must be >= 0 DN");
+  require(nonNegative(read_noise), "read_noise: must be >= 0 DN");
   require(finitePositive(gamma) && gamma <= 10.0, "gamma: must be in (0, 10]");
 }
 

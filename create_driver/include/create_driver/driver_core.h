@@ -166,6 +166,19 @@ private:
   void processFrame(const SensorState& state, double stamp);
   void fillLostFrames(double stamp);
   void finishGoal(StopReason reason, const std::string& message);
+  // The phases of control(), in order.
+  /// Start, then mode, a stop and Stream after start_gap; Start again every start_retry while no
+  /// frame arrives. False until a frame arrived.
+  bool runStartSequence(double now, Bytes& out);
+  /// The velocity asked for by the active goal or cmd_vel (0 if none); ends a goal that finished
+  /// and a cmd_vel that timed out (setting @p emergency). False while a Wait Distance script runs.
+  bool commandedVelocity(double now, bool& emergency, double& v, double& w);
+  /// Zero when the hazard latch, passive mode or an emergency forbids motion; else the limiter.
+  void limitVelocity(double dt, bool emergency, double& v, double& w);
+  /// Sends the mode again when the robot left it while it should move.
+  void reassertMode(double v, double w, double now, Bytes& out);
+  /// Appends the drive command when it changed on the wire or is due for a refresh.
+  void sendMotionIfDue(double v, double w, double now, Bytes& out);
   void appendMotion(double linear, double angular, Bytes& out);
   static StopReason hazardReason(Hazard hazard);
 

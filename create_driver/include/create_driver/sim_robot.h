@@ -142,6 +142,13 @@ private:
   void consumeInput(size_t n);
   void refuse(const std::string& reason);
   void execute(const uint8_t* cmd, size_t len);
+  // The command groups execute() dispatches to.
+  void executeMode(uint8_t op);
+  void executeDrive(const uint8_t* cmd);  // only called in Safe or Full
+  void executeSensors(const uint8_t* cmd, size_t len);
+  void requestStream(const uint8_t* cmd, size_t len);
+  void executeScript(const uint8_t* cmd, size_t len);
+  void startWait(const uint8_t* cmd);
   void setMode(OiMode mode);
   void stopWheels();
   void setWheels(double left, double right);

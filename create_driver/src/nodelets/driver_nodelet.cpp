@@ -75,6 +75,15 @@ const char* reportedModeName(int mode)
     return "unknown";
   return oiModeName(static_cast<OiMode>(mode));
 }
+
+// Summary of a diagnostic that is either fine or worth a warning.
+void summarizeOkOrWarn(diagnostic_updater::DiagnosticStatusWrapper& st, bool warn, const std::string& warning)
+{
+  if (warn)
+    st.summary(diagnostic_msgs::DiagnosticStatus::WARN, warning);
+  else
+    st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+}
 }  // namespace
 
 /// @brief Nodelet create_driver/driver (see README.md for its ROS interface).
@@ -416,6 +425,21 @@ private:
   void publish(const Snapshot& s, double now)
   {
     const ros::Time stamp = ros::Time::now();
+    publishOdometry(s, stamp);
+    publishHazards(s, stamp, now);
+    if (now - last_battery_time_ >= 1.0)
+    {
+      last_battery_time_ = now;
+      battery_pub_.publish(batteryMessage(s.sensors, stamp));
+    }
+    if (s.reported_mode != last_published_mode_)
+      publishMode();
+    publishGoalFeedback(s, now);
+  }
+
+  // Odometry and its transform (when publish_tf).
+  void publishOdometry(const Snapshot& s, const ros::Time& stamp)
+  {
     nav_msgs::Odometry odom;
     odom.header.stamp = stamp;
     odom.header.frame_id = odom_frame_;
@@ -443,7 +467,11 @@ private:
       t.transform.rotation = odom.pose.pose.orientation;
       tf_->sendTransform(t);
     }
+  }
 
+  // Hazards when they change, else at 10 Hz.
+  void publishHazards(const Snapshot& s, const ros::Time& stamp, double now)
+  {
     Hazards hz;
     hz.header.stamp = stamp;
     hz.header.frame_id = base_frame_;
@@ -471,15 +499,11 @@ private:
       last_hazards_ = hz;
       last_hazards_time_ = now;
     }
+  }
 
-    if (now - last_battery_time_ >= 1.0)
-    {
-      last_battery_time_ = now;
-      battery_pub_.publish(batteryMessage(s.sensors, stamp));
-    }
-    if (s.reported_mode != last_published_mode_)
-      publishMode();
-
+  // Feedback of the active distance goal at 10 Hz.
+  void publishGoalFeedback(const Snapshot& s, double now)
+  {
     if (s.progress.active && now - last_feedback_time_ >= 0.1)
     {
       last_feedback_time_ = now;
@@ -599,10 +623,7 @@ private:
     last_diag_time_ = now;
     last_valid_frames_ = c.valid_frames;
     last_corrupt_frames_ = c.corrupt_frames;
-    if (new_corrupt)
-      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, "corrupt frames on the line");
-    else
-      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    summarizeOkOrWarn(st, new_corrupt, "corrupt frames on the line");
     st.add("valid frames", c.valid_frames);
     st.add("corrupt frames", c.corrupt_frames);
     st.add("total frames", c.totalFrames());
@@ -622,8 +643,7 @@ private:
     }
     const bool new_overruns = ls.overruns > last_overruns_;
     last_overruns_ = ls.overruns;
-    st.summary(new_overruns ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
-               new_overruns ? "control loop overruns" : "ok");
+    summarizeOkOrWarn(st, new_overruns, "control loop overruns");
     st.add("loop ticks", ls.ticks);
     st.add("loop overruns", ls.overruns);
     st.add("max lateness (s)", ls.max_lateness);
@@ -638,10 +658,7 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     const HazardLatch& l = core_->latch();
     const int reported = core_->reportedMode();
-    if (l.latched())
-      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("hazard latched: ") + hazardName(l.reason()));
-    else
-      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    summarizeOkOrWarn(st, l.latched(), std::string("hazard latched: ") + hazardName(l.reason()));
     st.add("latched", l.latched());
     st.add("latch reason", hazardName(l.reason()));
     st.add("hazard stops", core_->stats().hazard_stops);
@@ -666,8 +683,7 @@ private:
     }
     const double cap = s.get(packet::BATTERY_CAPACITY);
     const double pct = cap > 0 ? 100.0 * s.get(packet::BATTERY_CHARGE) / cap : 0.0;
-    st.summary(pct < 15.0 ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
-               pct < 15.0 ? "battery low" : "ok");
+    summarizeOkOrWarn(st, pct < 15.0, "battery low");
     st.add("voltage (V)", s.get(packet::VOLTAGE) / 1000.0);
     st.add("current (A)", s.get(packet::CURRENT) / 1000.0);
     st.add("charge (Ah)", s.get(packet::BATTERY_CHARGE) / 1000.0);

@@ -55,6 +55,19 @@ private:
   {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
+    const SimParams p = readRobotParams(pnh);
+    readNodeParams(pnh);
+    robot_ = std::make_unique<SimRobot>(p);
+    garbage_rng_.seed(p.seed + 1);
+    openPty();  // throws naming ~link if the link cannot be made
+    advertise(nh, pnh);
+    running_ = true;
+    thread_ = std::thread([this] { loop(); });
+  }
+
+  // The simulated robot's parameters (model, geometry, slip and noise).
+  static SimParams readRobotParams(ros::NodeHandle& pnh)
+  {
     SimParams p;
     const std::string model = sl_params::read<std::string>(pnh, "model", "create_1");
     if (model == "create_1" || model == "create")
@@ -84,7 +97,12 @@ private:
     require(seed >= 0, "~seed must be >= 0");
     p.seed = static_cast<uint32_t>(seed);
     p.block_on_contact = sl_params::read<bool>(pnh, "block_on_contact", true);
+    return p;
+  }
 
+  // The node's own parameters (rates, frames, link, garbage, reopen delay).
+  void readNodeParams(ros::NodeHandle& pnh)
+  {
     rate_ = sl_params::read<double>(pnh, "rate", 200.0);
     require(rate_ >= 50.0 && rate_ <= 2000.0, "~rate must be in [50, 2000] Hz");
     publish_rate_ = sl_params::read<double>(pnh, "publish_rate", 50.0);
@@ -99,11 +117,10 @@ private:
     garbage_bytes_ = static_cast<size_t>(garbage);
     reopen_delay_ = sl_params::read<double>(pnh, "reopen_delay", 0.5);
     require(reopen_delay_ >= 0.0 && reopen_delay_ <= 60.0, "~reopen_delay must be in [0, 60] s");
+  }
 
-    robot_ = std::make_unique<SimRobot>(p);
-    garbage_rng_.seed(p.seed + 1);
-    openPty();  // throws naming ~link if the link cannot be made
-
+  void advertise(ros::NodeHandle& nh, ros::NodeHandle& pnh)
+  {
     pose_pub_ = nh.advertise<geometry_msgs::PoseStamped>("true_pose", 10);
     status_pub_ = pnh.advertise<SimStatus>("status", 10);
     contact_sub_ = nh.subscribe<std_msgs::UInt8>("contact", 10,
@@ -133,9 +150,6 @@ private:
     reopen_srv_ = pnh.advertiseService("reopen", &SimNodelet::reopen, this);
     garbage_srv_ = pnh.advertiseService("inject_garbage", &SimNodelet::injectGarbage, this);
     power_srv_ = pnh.advertiseService("power_cycle", &SimNodelet::powerCycle, this);
-
-    running_ = true;
-    thread_ = std::thread([this] { loop(); });
   }
 
   void openPty()
@@ -189,22 +203,11 @@ private:
     double last = steadyNow();
     double next_pose = last;
     double next_status = last;
-    uint8_t buf[512];
     Bytes out;
     out.reserve(4096);
     while (running_ && ros::ok())
     {
-      bool open = false;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        open = pty_.isOpen();
-      }
-      const double wait_s = std::max(0.0, last + period - steadyNow());
-      if (open)
-        pty_.waitReadable(static_cast<int>(std::ceil(wait_s * 1000.0)));
-      else
-        std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
-
+      waitForInput(last + period);
       const double now = steadyNow();
       geometry_msgs::PoseStamped pose;
       SimStatus status;
@@ -212,52 +215,9 @@ private:
       bool send_status = false;
       {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (reopen_requested_)
-        {
-          reopen_requested_ = false;
-          NODELET_INFO("create_sim: closing %s (reopen requested)", pty_.slavePath().c_str());
-          pty_.unlink();
-          pty_.close();
-          reopen_pending_ = true;
-          reopen_at_ = now + reopen_delay_;
-        }
-        if (reopen_pending_ && now >= reopen_at_)
-        {
-          reopen_pending_ = false;
-          try
-          {
-            openPty();
-          }
-          catch (const std::exception& e)
-          {
-            NODELET_ERROR("create_sim: reopening failed: %s", e.what());
-          }
-        }
-        long n;
-        while (pty_.isOpen() && (n = pty_.read(buf, sizeof(buf))) > 0)
-          robot_->receive(buf, static_cast<size_t>(n));
-        robot_->step(now - last);
-        if (robot_->refusedCommands() != refused_logged_)
-        {
-          // A client's command was refused (input or a script after a Wait): say why, at once for
-          // a new reason, throttled for a client that repeats itself.
-          refused_logged_ = robot_->refusedCommands();
-          const unsigned long long count = refused_logged_;
-          if (robot_->lastRefusal() != refusal_logged_)
-          {
-            refusal_logged_ = robot_->lastRefusal();
-            NODELET_WARN("create_sim: %s (%llu commands refused so far)", refusal_logged_.c_str(), count);
-          }
-          else
-          {
-            NODELET_WARN_THROTTLE(1.0, "create_sim: %s (%llu commands refused so far)", refusal_logged_.c_str(), count);
-          }
-        }
+        reopenIfDue(now);
+        exchangeWithRobot(now - last, out);
         last = now;
-        out.clear();
-        robot_->takeOutput(out);
-        if (!out.empty() && pty_.isOpen())
-          pty_.write(out.data(), out.size());
         if (now >= next_pose)
         {
           next_pose = std::max(next_pose + 1.0 / publish_rate_, now - 1.0 / publish_rate_);
@@ -272,19 +232,97 @@ private:
         }
       }
       if (send_pose)
-      {
-        pose_pub_.publish(pose);
-        geometry_msgs::TransformStamped t;
-        t.header = pose.header;
-        t.child_frame_id = robot_frame_;
-        t.transform.translation.x = pose.pose.position.x;
-        t.transform.translation.y = pose.pose.position.y;
-        t.transform.rotation = pose.pose.orientation;
-        tf_.sendTransform(t);
-      }
+        publishPose(pose);
       if (send_status)
         status_pub_.publish(status);
     }
+  }
+
+  // Waits until the client writes or the steady clock reaches @p until.
+  void waitForInput(double until)
+  {
+    bool open = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      open = pty_.isOpen();
+    }
+    const double wait_s = std::max(0.0, until - steadyNow());
+    if (open)
+      pty_.waitReadable(static_cast<int>(std::ceil(wait_s * 1000.0)));
+    else
+      std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
+  }
+
+  // Closes the pty when a reopen was requested and opens it again after reopen_delay (mutex_ held).
+  void reopenIfDue(double now)
+  {
+    if (reopen_requested_)
+    {
+      reopen_requested_ = false;
+      NODELET_INFO("create_sim: closing %s (reopen requested)", pty_.slavePath().c_str());
+      pty_.unlink();
+      pty_.close();
+      reopen_pending_ = true;
+      reopen_at_ = now + reopen_delay_;
+    }
+    if (reopen_pending_ && now >= reopen_at_)
+    {
+      reopen_pending_ = false;
+      try
+      {
+        openPty();
+      }
+      catch (const std::exception& e)
+      {
+        NODELET_ERROR("create_sim: reopening failed: %s", e.what());
+      }
+    }
+  }
+
+  // Feeds the client's bytes to the robot, advances it by @p dt and writes its answer (mutex_ held).
+  void exchangeWithRobot(double dt, Bytes& out)
+  {
+    uint8_t buf[512];
+    long n;
+    while (pty_.isOpen() && (n = pty_.read(buf, sizeof(buf))) > 0)
+      robot_->receive(buf, static_cast<size_t>(n));
+    robot_->step(dt);
+    logRefusals();
+    out.clear();
+    robot_->takeOutput(out);
+    if (!out.empty() && pty_.isOpen())
+      pty_.write(out.data(), out.size());
+  }
+
+  // A client's command was refused (input or a script after a Wait): say why, at once for a new
+  // reason, throttled for a client that repeats itself (mutex_ held).
+  void logRefusals()
+  {
+    if (robot_->refusedCommands() == refused_logged_)
+      return;
+    refused_logged_ = robot_->refusedCommands();
+    const unsigned long long count = refused_logged_;
+    if (robot_->lastRefusal() != refusal_logged_)
+    {
+      refusal_logged_ = robot_->lastRefusal();
+      NODELET_WARN("create_sim: %s (%llu commands refused so far)", refusal_logged_.c_str(), count);
+    }
+    else
+    {
+      NODELET_WARN_THROTTLE(1.0, "create_sim: %s (%llu commands refused so far)", refusal_logged_.c_str(), count);
+    }
+  }
+
+  void publishPose(const geometry_msgs::PoseStamped& pose)
+  {
+    pose_pub_.publish(pose);
+    geometry_msgs::TransformStamped t;
+    t.header = pose.header;
+    t.child_frame_id = robot_frame_;
+    t.transform.translation.x = pose.pose.position.x;
+    t.transform.translation.y = pose.pose.position.y;
+    t.transform.rotation = pose.pose.orientation;
+    tf_.sendTransform(t);
   }
 
   void fillPose(geometry_msgs::PoseStamped& m) const

@@ -51,9 +51,9 @@ struct SimParams
   Scene scene;
 };
 
-SimParams readParams(const ros::NodeHandle& pnh)
+// The rig and the scene, loaded from their files.
+void readFiles(const ros::NodeHandle& pnh, SimParams& p)
 {
-  SimParams p;
   // One name for the rig file across the nodelets; ~rig_file is the deprecated former one.
   if (!sl_params::readIfSetRenamed(pnh, "calibration_file", "rig_file", p.rig_file) || p.rig_file.empty())
     throw std::invalid_argument(
@@ -76,6 +76,50 @@ SimParams readParams(const ros::NodeHandle& pnh)
   {
     throw std::invalid_argument(std::string("~scene_file: ") + e.what());
   }
+}
+
+// Every simulator setting, read as a parameter of its own name (defaults: @p s).
+SimSettings readSimSettings(const ros::NodeHandle& pnh, SimSettings s)
+{
+  for (const SimSettingInfo& info : simSettingsInfo())
+  {
+    const double current = getSimSetting(s, info.name);
+    double value = current;
+    switch (info.kind)
+    {
+      case SimSettingInfo::Kind::Double:
+        value = sl_params::read(pnh, info.name, current);
+        break;
+      case SimSettingInfo::Kind::Int:
+        value = sl_params::read(pnh, info.name, static_cast<int>(current));
+        break;
+      case SimSettingInfo::Kind::Bool:
+        value = sl_params::read(pnh, info.name, current != 0.0) ? 1.0 : 0.0;
+        break;
+    }
+    setSimSetting(s, info.name, value);
+  }
+  return s;
+}
+
+// Runs a core type's validate(), naming the parameter as a private one.
+template <typename T>
+void validateParams(const T& value)
+{
+  try
+  {
+    value.validate();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw std::invalid_argument(std::string("~") + e.what());
+  }
+}
+
+SimParams readParams(const ros::NodeHandle& pnh)
+{
+  SimParams p;
+  readFiles(pnh, p);
   p.rate = sl_params::read(pnh, "rate", p.rate);
   if (!std::isfinite(p.rate) || p.rate <= 0.0 || p.rate > 1000.0)
     throw std::invalid_argument("~rate: must be in (0, 1000] Hz, got " + std::to_string(p.rate));
@@ -91,45 +135,27 @@ SimParams readParams(const ros::NodeHandle& pnh)
   for (const std::string* f : { &p.world_frame, &p.robot_frame, &p.base_frame, &p.camera_frame })
     if (f->empty())
       throw std::invalid_argument("~world_frame, ~robot_frame, ~base_frame and ~camera_frame must not be empty");
-
-  for (const SimSettingInfo& info : simSettingsInfo())
-  {
-    const double current = getSimSetting(p.settings, info.name);
-    double value = current;
-    switch (info.kind)
-    {
-      case SimSettingInfo::Kind::Double:
-        value = sl_params::read(pnh, info.name, current);
-        break;
-      case SimSettingInfo::Kind::Int:
-        value = sl_params::read(pnh, info.name, static_cast<int>(current));
-        break;
-      case SimSettingInfo::Kind::Bool:
-        value = sl_params::read(pnh, info.name, current != 0.0) ? 1.0 : 0.0;
-        break;
-    }
-    setSimSetting(p.settings, info.name, value);
-  }
-  try
-  {
-    p.settings.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    throw std::invalid_argument(std::string("~") + e.what());
-  }
+  p.settings = readSimSettings(pnh, p.settings);
+  validateParams(p.settings);
   p.contact.robot_radius = sl_params::read(pnh, "robot_radius", p.contact.robot_radius);
   p.contact.robot_height = sl_params::read(pnh, "robot_height", p.contact.robot_height);
   p.contact.contact_min_height = sl_params::read(pnh, "contact_min_height", p.contact.contact_min_height);
-  try
-  {
-    p.contact.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    throw std::invalid_argument(std::string("~") + e.what());
-  }
+  validateParams(p.contact);
   return p;
+}
+
+// A message holding a copy of a continuous image (the renderer's outputs are).
+sensor_msgs::ImagePtr toImageMsg(const cv::Mat& image, const std::string& encoding, const std_msgs::Header& header)
+{
+  sensor_msgs::ImagePtr msg(new sensor_msgs::Image);
+  msg->header = header;
+  msg->height = static_cast<uint32_t>(image.rows);
+  msg->width = static_cast<uint32_t>(image.cols);
+  msg->encoding = encoding;
+  msg->is_bigendian = 0;
+  msg->step = static_cast<uint32_t>(image.cols * image.elemSize());
+  msg->data.assign(image.data, image.data + image.total() * image.elemSize());
+  return msg;
 }
 
 Eigen::Isometry3d translationX(double x)
@@ -309,30 +335,11 @@ private:
     sensor_msgs::CameraInfo info = info_;
     info.header.stamp = stamp;
     if (want_image)
-    {
-      sensor_msgs::ImagePtr image(new sensor_msgs::Image);
-      image->header = info.header;
-      image->height = static_cast<uint32_t>(out_.image.rows);
-      image->width = static_cast<uint32_t>(out_.image.cols);
-      image->encoding = sensor_msgs::image_encodings::MONO8;
-      image->is_bigendian = 0;
-      image->step = static_cast<uint32_t>(out_.image.cols);
-      image->data.assign(out_.image.data, out_.image.data + out_.image.total());
-      image_pub_.publish(image, sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
-    }
+      image_pub_.publish(toImageMsg(out_.image, sensor_msgs::image_encodings::MONO8, info.header),
+                         sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
     if (want_depth)
-    {
-      sensor_msgs::ImagePtr depth(new sensor_msgs::Image);
-      depth->header = info.header;
-      depth->height = static_cast<uint32_t>(out_.depth.rows);
-      depth->width = static_cast<uint32_t>(out_.depth.cols);
-      depth->encoding = sensor_msgs::image_encodings::TYPE_32FC1;
-      depth->is_bigendian = 0;
-      depth->step = static_cast<uint32_t>(out_.depth.cols * sizeof(float));
-      const uint8_t* data = out_.depth.data;
-      depth->data.assign(data, data + out_.depth.total() * sizeof(float));
-      depth_pub_.publish(depth, sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
-    }
+      depth_pub_.publish(toImageMsg(out_.depth, sensor_msgs::image_encodings::TYPE_32FC1, info.header),
+                         sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
   }
 
   SimParams p_;

@@ -6,13 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "sl_decoder/calibration/full_calibration.h"
+#include "sl_calibration/full_calibration.h"
 #include "sl_projector/tool_args.h"
 
 namespace
 {
-using namespace sl_decoder;
-using namespace sl_decoder::calibration;
+using namespace sl_calibration;
 
 const char* kUsage =
     "usage: sl_calibrate_full --rig RIG.yaml --out OUT.yaml --board COLSxROWS --square S [views] [options]\n"

@@ -10,14 +10,12 @@
 
 #include <opencv2/core.hpp>
 
-#include "sl_decoder/calibration/camera_calibration.h"
-#include "sl_decoder/calibration/plane_calibration.h"
-#include "sl_decoder/calibration/projector_calibration.h"
+#include "sl_calibration/camera_calibration.h"
+#include "sl_calibration/plane_calibration.h"
+#include "sl_calibration/projector_calibration.h"
 #include "sl_decoder/decoder.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /// @brief Options of the full calibration.
@@ -139,8 +137,8 @@ private:
   sl_projector::PinholeModel camera_;
   std::vector<BoardView> board_views_;
   std::vector<PlaneView> plane_views_;
-  std::unique_ptr<Decoder> decoder_;
-  DecodeResult decoded_;
+  std::unique_ptr<sl_decoder::Decoder> decoder_;
+  sl_decoder::DecodeResult decoded_;
 };
 
 /// @brief Differences between a calibrated rig and a reference (e.g. the simulator's true rig).
@@ -161,5 +159,4 @@ struct RigComparison
 /// @brief Compares @p calibrated with @p reference.
 RigComparison compareRigs(const sl_projector::Rig& calibrated, const sl_projector::Rig& reference);
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

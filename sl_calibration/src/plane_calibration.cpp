@@ -1,4 +1,4 @@
-#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_calibration/plane_calibration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,7 @@
 
 #include <Eigen/Dense>
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 namespace
@@ -300,7 +298,7 @@ int PlaneCalibration::addSamples(double distance, const std::vector<PrimitiveSam
   return added;
 }
 
-int PlaneCalibration::addImage(double distance, const DecodeResult& result, const std::string& source)
+int PlaneCalibration::addImage(double distance, const sl_decoder::DecodeResult& result, const std::string& source)
 {
   return addSamples(distance, decodedSamples(result), source);
 }
@@ -575,5 +573,4 @@ sl_projector::Rig withTables(const sl_projector::Rig& rig, const PlaneCalibratio
   return out;
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

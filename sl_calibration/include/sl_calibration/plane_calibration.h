@@ -7,12 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "sl_decoder/calibration/common.h"
+#include "sl_calibration/common.h"
 #include "sl_projector/rig.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /**
@@ -164,7 +162,7 @@ public:
   int addSamples(double distance, const std::vector<PrimitiveSample>& samples, const std::string& source = "");
 
   /// @brief Same as addSamples(distance, decodedSamples(result), source).
-  int addImage(double distance, const DecodeResult& result, const std::string& source = "");
+  int addImage(double distance, const sl_decoder::DecodeResult& result, const std::string& source = "");
 
   /// @brief Distinct distances so far, ascending, m.
   std::vector<double> distances() const;
@@ -204,5 +202,4 @@ private:
 /// @brief @p rig with the tables of @p result (distances, linear and rational).
 sl_projector::Rig withTables(const sl_projector::Rig& rig, const PlaneCalibrationResult& result);
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

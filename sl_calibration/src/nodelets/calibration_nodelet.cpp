@@ -21,15 +21,14 @@
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
 
-#include "sl_decoder/calibration/full_calibration.h"
-#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_calibration/full_calibration.h"
+#include "sl_calibration/plane_calibration.h"
 #include "sl_params/params.h"
 
-namespace sl_decoder
+namespace sl_calibration
 {
 namespace
 {
-using namespace sl_decoder::calibration;
 
 /// Every parameter of the nodelet, read and validated in one place.
 struct CalibrationParams
@@ -158,7 +157,7 @@ private:
       if (p_.mode == "plane")
       {
         plane_.reset(new PlaneCalibration(p_.rig, p_.plane));
-        decoder_.reset(new Decoder(p_.rig, calibrationDecoderConfig(p_.epipolar_tolerance)));
+        decoder_.reset(new sl_decoder::Decoder(p_.rig, calibrationDecoderConfig(p_.epipolar_tolerance)));
       }
       else
       {
@@ -208,7 +207,7 @@ private:
     {
       bool converted = false;
       cv_bridge::CvImageConstPtr cv = cv_bridge::toCvShare(msg);
-      frames_.push_back(toMono8(cv->image, msg->encoding, converted).clone());
+      frames_.push_back(sl_decoder::toMono8(cv->image, msg->encoding, converted).clone());
       --wanted_;
     }
     catch (const std::exception& e)
@@ -345,7 +344,7 @@ private:
       return true;
     }
     int total = 0, least = 1 << 30;
-    DecodeResult result;
+    sl_decoder::DecodeResult result;
     for (size_t i = 0; i < frames.size(); ++i)
     {
       decoder_->decode(frames[i], result);
@@ -518,7 +517,7 @@ private:
   CalibrationParams p_;
   std::unique_ptr<PlaneCalibration> plane_;
   std::unique_ptr<FullCalibration> full_;
-  std::unique_ptr<Decoder> decoder_;
+  std::unique_ptr<sl_decoder::Decoder> decoder_;
   std::string service_prefix_;
 
   std::mutex work_mutex_;  // captures and fits, one at a time
@@ -544,6 +543,6 @@ private:
   ros::ServiceServer capture_srv_, board_srv_, pattern_srv_, calibrate_srv_, reset_srv_;
 };
 
-}  // namespace sl_decoder
+}  // namespace sl_calibration
 
-PLUGINLIB_EXPORT_CLASS(sl_decoder::CalibrationNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(sl_calibration::CalibrationNodelet, nodelet::Nodelet)

@@ -1,14 +1,12 @@
-#include "sl_decoder/calibration/full_calibration.h"
+#include "sl_calibration/full_calibration.h"
 
 #include <cmath>
 #include <map>
 #include <sstream>
 
-#include "sl_decoder/calibration/optimizer.h"
+#include "sl_calibration/optimizer.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 FullCalibration::FullCalibration(const sl_projector::Rig& rig, const Board& board,
@@ -18,7 +16,7 @@ FullCalibration::FullCalibration(const sl_projector::Rig& rig, const Board& boar
   board_.validate();
   options_.distance_planes.validate();
   rig_.validate();
-  decoder_.reset(new Decoder(rig_, calibrationDecoderConfig(options_.epipolar_tolerance)));
+  decoder_.reset(new sl_decoder::Decoder(rig_, calibrationDecoderConfig(options_.epipolar_tolerance)));
 }
 
 FullCalibration::~FullCalibration() = default;
@@ -482,5 +480,4 @@ std::string RigComparison::summary() const
   return o.str();
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_calibration/plane_calibration.h"
 #include "sl_projector/tool_args.h"
 
 #ifdef SL_CALIBRATION_WITH_ROSBAG
@@ -21,8 +21,7 @@
 
 namespace
 {
-using namespace sl_decoder;
-using namespace sl_decoder::calibration;
+using namespace sl_calibration;
 
 const char* kUsage =
     "usage: sl_calibrate_plane --rig RIG.yaml --out OUT.yaml [options] SOURCE:DISTANCE ...\n"
@@ -103,7 +102,7 @@ int forEachImage(const Source& source, const std::string& topic, Add add)
         if (sensor_msgs::Image::ConstPtr img = m.instantiate<sensor_msgs::Image>())
         {
           bool converted = false;
-          grey = toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
+          grey = sl_decoder::toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
         }
         else if (sensor_msgs::CompressedImage::ConstPtr c = m.instantiate<sensor_msgs::CompressedImage>())
           grey = cv::imdecode(c->data, cv::IMREAD_GRAYSCALE);
@@ -193,8 +192,8 @@ int main(int argc, char** argv)
   {
     const sl_projector::Rig rig = sl_projector::loadRig(rig_path);
     PlaneCalibration calibration(rig, options);
-    Decoder decoder(rig, calibrationDecoderConfig(epipolar_tolerance));
-    DecodeResult result;
+    sl_decoder::Decoder decoder(rig, calibrationDecoderConfig(epipolar_tolerance));
+    sl_decoder::DecodeResult result;
     for (const Source& s : sources)
     {
       forEachImage(s, topic,

@@ -129,6 +129,22 @@ private:
     std::vector<PrimitiveSample> samples;
   };
   void checkImage(const std::string& name, const cv::Mat& grey) const;
+  // The checkerboard's corners in the image @p name. Throws if it is not found.
+  std::vector<cv::Point2f> findCorners(const std::string& name, const cv::Mat& grey) const;
+  // Throws if too few primitives of the pattern image @p name were decoded.
+  void checkSamples(const std::string& name, const std::vector<PrimitiveSample>& samples) const;
+
+  // The steps of calibrate(). 1: the camera (calibrated from the board views, or the one given)
+  // and the board poses.
+  std::vector<sl_projector::RigidTransform> calibrateCameraStep(FullCalibrationResult& out) const;
+  // 2, 3: each plane view's plane in the camera frame (its board's pose, or the known distance) and
+  // its projector correspondences.
+  std::vector<ProjectorCorrespondence> planeCorrespondences(
+      const sl_projector::Rig& rig, const std::vector<sl_projector::RigidTransform>& board_poses,
+      FullCalibrationResult& out) const;
+  // 4: the joint refinement on the projector fit's inliers; keeps the separate fits if it diverges.
+  void refineJointly(const sl_projector::Rig& rig, const std::vector<ProjectorCorrespondence>& corr,
+                     std::vector<sl_projector::RigidTransform>& board_poses, FullCalibrationResult& out) const;
 
   sl_projector::Rig rig_;
   Board board_;

@@ -175,6 +175,10 @@ public:
 
   /**
    * @brief Fits both models for every primitive seen at enough distances.
+   *
+   * In steps: the distances; per primitive its median image position and target depth at each, the
+   * rational model (leaving out one inconsistent distance if that fixes it; still inconsistent:
+   * rejected), the linear model on the same distances; the residual statistics per distance.
    * @throws CalibrationError with a clear message when there are fewer than min_distances distinct
    * distances, or no primitive was seen at enough of them.
    */
@@ -192,6 +196,12 @@ private:
     std::vector<std::vector<Eigen::Vector2d>> pixels;  // per primitive
   };
   int groupFor(double distance);
+  // The steps of fit(). Step 1: the groups in ascending order of distance, their summaries in @p res,
+  // the tables sized; throws for too few distances.
+  std::vector<size_t> startResult(PlaneCalibrationResult& res) const;
+  // Step 2: the primitive @p cell (row-major) at each distance of @p order: median image position and
+  // target depth; @p seen_at gets the distances where it has both.
+  PrimitiveFit observe(size_t cell, const std::vector<size_t>& order, std::vector<size_t>& seen_at) const;
 
   sl_projector::Rig rig_;
   PlaneCalibrationOptions options_;

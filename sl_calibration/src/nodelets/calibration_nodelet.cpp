@@ -218,8 +218,9 @@ private:
     image_cv_.notify_all();
   }
 
-  /// Waits for @p n images stamped after now. @return false on timeout (message in @p error).
-  bool grab(int n, std::vector<cv::Mat>& frames, std::string& error)
+  /// Waits for @p n images stamped after now. @return false on timeout or images of the wrong size
+  /// (@p res then fails with the message).
+  bool grab(int n, std::vector<cv::Mat>& frames, std_srvs::Trigger::Response& res)
   {
     std::unique_lock<std::mutex> lock(image_mutex_);
     frames_.clear();
@@ -232,15 +233,18 @@ private:
     frames_.clear();
     if (!ok)
     {
-      error = "timed out after " + std::to_string(p_.capture_timeout) + " s waiting for " + std::to_string(n) +
-              " image(s) on " + image_sub_.getTopic() + " (got " + std::to_string(frames.size()) + ")";
+      res.success = false;
+      res.message = "timed out after " + std::to_string(p_.capture_timeout) + " s waiting for " + std::to_string(n) +
+                    " image(s) on " + image_sub_.getTopic() + " (got " + std::to_string(frames.size()) + ")";
       return false;
     }
     for (const cv::Mat& f : frames)
       if (f.cols != p_.rig.camera.width || f.rows != p_.rig.camera.height)
       {
-        error = "the images are " + std::to_string(f.cols) + " x " + std::to_string(f.rows) + " px, the rig's camera " +
-                std::to_string(p_.rig.camera.width) + " x " + std::to_string(p_.rig.camera.height);
+        res.success = false;
+        res.message = "the images are " + std::to_string(f.cols) + " x " + std::to_string(f.rows) +
+                      " px, the rig's camera " + std::to_string(p_.rig.camera.width) + " x " +
+                      std::to_string(p_.rig.camera.height);
         return false;
       }
     return true;
@@ -335,12 +339,9 @@ private:
       return true;
     }
     std::vector<cv::Mat> frames;
-    std::string error;
-    if (!grab(p_.frames_per_capture, frames, error))
+    if (!grab(p_.frames_per_capture, frames, res))
     {
-      res.success = false;
-      res.message = error;
-      NODELET_ERROR("capture: %s", error.c_str());
+      NODELET_ERROR("capture: %s", res.message.c_str());
       return true;
     }
     int total = 0, least = 1 << 30;
@@ -378,13 +379,8 @@ private:
   {
     std::lock_guard<std::mutex> lock(work_mutex_);
     std::vector<cv::Mat> frames;
-    std::string error;
-    if (!grab(1, frames, error))
-    {
-      res.success = false;
-      res.message = error;
+    if (!grab(1, frames, res))
       return true;
-    }
     std::vector<cv::Point2f> corners;
     if (!findBoardCorners(frames[0], p_.board, corners))
     {
@@ -416,13 +412,8 @@ private:
       return true;
     }
     std::vector<cv::Mat> frames;
-    std::string error;
-    if (!grab(1, frames, error))
-    {
-      res.success = false;
-      res.message = error;
+    if (!grab(1, frames, res))
       return true;
-    }
     try
     {
       const std::string name = "pose " + std::to_string(full_->planeViews() + 1);

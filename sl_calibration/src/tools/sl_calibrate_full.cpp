@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "calibration_tool.h"
 #include "sl_calibration/full_calibration.h"
-#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -50,80 +50,58 @@ struct PoseArg
 
 int main(int argc, char** argv)
 {
-  std::string rig_path, out_path, board_size, camera_info, camera_info_out;
+  tool::CommonOptions common;
+  std::string board_size, camera_info, camera_info_out;
   double square = 0.0;
   FullCalibrationOptions options;
   std::vector<std::string> camera_views;
   std::vector<PoseArg> poses;
   std::vector<std::pair<std::string, double>> planes;
-  bool written = false;
-  try
+  auto readOption = [&](const std::string& a, sl_projector::ToolArgs& args)
   {
-    sl_projector::ToolArgs args(argc, argv);
-    for (std::string a; args.next(a);)
+    if (a == "--board")
+      board_size = args.value();
+    else if (a == "--square")
+      square = args.number();
+    else if (a == "--camera-view")
+      camera_views.push_back(args.value());
+    else if (a == "--pose")
     {
-      if (a == "-h" || a == "--help")
-      {
-        std::cout << kUsage;
-        return 0;
-      }
-      else if (a == "--rig")
-        rig_path = args.value();
-      else if (a == "--out")
-        out_path = args.value();
-      else if (a == "--board")
-        board_size = args.value();
-      else if (a == "--square")
-        square = args.number();
-      else if (a == "--camera-view")
-        camera_views.push_back(args.value());
-      else if (a == "--pose")
-      {
-        const std::string v = args.value();
-        const size_t comma = v.find(',');
-        if (comma == std::string::npos || comma == 0 || comma + 1 == v.size())
-          throw std::invalid_argument("--pose needs BOARD_IMAGE,PATTERN_IMAGE, got '" + v + "'");
-        poses.push_back(PoseArg{ v.substr(0, comma), v.substr(comma + 1) });
-      }
-      else if (a == "--plane")
-      {
-        std::string path;
-        double d = 0.0;
-        parsePathAndNumber(args.value(), path, d);
-        planes.emplace_back(path, d);
-      }
-      else if (a == "--camera-info")
-        camera_info = args.value();
-      else if (a == "--camera-info-out")
-        camera_info_out = args.value();
-      else if (a == "--reference")
-        options.distance_planes.reference = parseDistanceReference(args.value());
-      else if (a == "--normal")
-        options.distance_planes.normal = parsePlaneNormal(args.value());
-      else if (a == "--k3")
-        options.camera.fix_k3 = options.projector.fix_k3 = false;
-      else if (a == "--no-joint")
-        options.joint_refinement = false;
-      else if (a == "--epipolar-tolerance")
-        options.epipolar_tolerance = args.number();
-      else
-        args.unknown();
+      const std::string v = args.value();
+      const size_t comma = v.find(',');
+      if (comma == std::string::npos || comma == 0 || comma + 1 == v.size())
+        throw std::invalid_argument("--pose needs BOARD_IMAGE,PATTERN_IMAGE, got '" + v + "'");
+      poses.push_back(PoseArg{ v.substr(0, comma), v.substr(comma + 1) });
     }
-    if (rig_path.empty() || out_path.empty())
-      throw std::invalid_argument("--rig and --out are required");
+    else if (a == "--plane")
+    {
+      std::string path;
+      double d = 0.0;
+      parsePathAndNumber(args.value(), path, d);
+      planes.emplace_back(path, d);
+    }
+    else if (a == "--camera-info")
+      camera_info = args.value();
+    else if (a == "--camera-info-out")
+      camera_info_out = args.value();
+    else if (a == "--k3")
+      options.camera.fix_k3 = options.projector.fix_k3 = false;
+    else if (a == "--no-joint")
+      options.joint_refinement = false;
+    else
+      return false;
+    return true;
+  };
+  auto check = [&]
+  {
     if (board_size.empty() && (!camera_views.empty() || !poses.empty()))
       throw std::invalid_argument("--board and --square are required with board images");
-    options.distance_planes.validate();
-  }
-  catch (const std::exception& e)
+  };
+  auto calibrate = [&](bool& written)
   {
-    std::cerr << "sl_calibrate_full: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
-
-  try
-  {
-    const sl_projector::Rig rig = sl_projector::loadRig(rig_path);
+    options.distance_planes = common.planes;
+    options.epipolar_tolerance = common.epipolar_tolerance;
+    const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
     Board board;
     if (!board_size.empty())
       board = parseBoardSize(board_size, square);
@@ -148,23 +126,18 @@ int main(int argc, char** argv)
     }
     const FullCalibrationResult res = calibration.calibrate();
     std::cout << "\n" << res.summary();
-    sl_projector::saveRig(res.rig, out_path);
+    sl_projector::saveRig(res.rig, common.out_path);
     written = true;
-    std::cout << "wrote " << out_path
+    std::cout << "wrote " << common.out_path
               << (rig.tables.rational.empty() && rig.tables.linear.empty()
                       ? std::string()
-                      : std::string(" (depth_tables kept from ") + rig_path + ")")
+                      : std::string(" (depth_tables kept from ") + common.rig_path + ")")
               << "\n";
     if (!camera_info_out.empty())
     {
       saveCameraInfo(res.rig.camera, camera_info_out);
       std::cout << "wrote " << camera_info_out << " (camera_info)\n";
     }
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "sl_calibrate_full: " << e.what() << (written ? "\n" : "\nnothing written.\n");
-    return 1;
-  }
-  return 0;
+  };
+  return tool::run("sl_calibrate_full", kUsage, argc, argv, common, readOption, check, calibrate);
 }

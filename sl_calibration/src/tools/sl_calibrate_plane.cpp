@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "calibration_tool.h"
 #include "sl_calibration/plane_calibration.h"
-#include "sl_projector/tool_args.h"
 
 #ifdef SL_CALIBRATION_WITH_ROSBAG
 #include <cv_bridge/cv_bridge.h>
@@ -135,64 +135,40 @@ int forEachImage(const Source& source, const std::string& topic, Add add)
 
 int main(int argc, char** argv)
 {
-  std::string rig_path, out_path, residuals_path, topic;
-  PlaneCalibrationOptions options;
-  double epipolar_tolerance = kCalibrationEpipolarTolerance;
+  tool::CommonOptions common;
+  std::string residuals_path, topic;
   std::vector<Source> sources;
-  try
+  PlaneCalibrationOptions& options = common.planes;
+  auto readOption = [&](const std::string& a, sl_projector::ToolArgs& args)
   {
-    sl_projector::ToolArgs args(argc, argv);
-    for (std::string a; args.next(a);)
+    if (a == "--min-distances")
+      options.min_distances = static_cast<int>(args.integer(1, 1000));
+    else if (a == "--max-rms")
+      options.max_rational_rms = args.number() / 1000.0;
+    else if (a == "--residuals")
+      residuals_path = args.value();
+    else if (a == "--topic")
+      topic = args.value();
+    else if (!a.empty() && a[0] == '-')
+      return false;
+    else
     {
-      if (a == "-h" || a == "--help")
-      {
-        std::cout << kUsage;
-        return 0;
-      }
-      else if (a == "--rig")
-        rig_path = args.value();
-      else if (a == "--out")
-        out_path = args.value();
-      else if (a == "--reference")
-        options.reference = parseDistanceReference(args.value());
-      else if (a == "--normal")
-        options.normal = parsePlaneNormal(args.value());
-      else if (a == "--min-distances")
-        options.min_distances = static_cast<int>(args.integer(1, 1000));
-      else if (a == "--max-rms")
-        options.max_rational_rms = args.number() / 1000.0;
-      else if (a == "--epipolar-tolerance")
-        epipolar_tolerance = args.number();
-      else if (a == "--residuals")
-        residuals_path = args.value();
-      else if (a == "--topic")
-        topic = args.value();
-      else if (!a.empty() && a[0] == '-')
-        args.unknown();
-      else
-      {
-        Source s;
-        parsePathAndNumber(a, s.path, s.distance);
-        sources.push_back(s);
-      }
+      Source s;
+      parsePathAndNumber(a, s.path, s.distance);
+      sources.push_back(s);
     }
-    if (rig_path.empty() || out_path.empty())
-      throw std::invalid_argument("--rig and --out are required");
+    return true;
+  };
+  auto check = [&]
+  {
     if (sources.empty())
       throw std::invalid_argument("no SOURCE:DISTANCE given");
-    options.validate();
-  }
-  catch (const std::exception& e)
+  };
+  auto calibrate = [&](bool&)
   {
-    std::cerr << "sl_calibrate_plane: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
-
-  try
-  {
-    const sl_projector::Rig rig = sl_projector::loadRig(rig_path);
+    const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
     PlaneCalibration calibration(rig, options);
-    sl_decoder::Decoder decoder(rig, calibrationDecoderConfig(epipolar_tolerance));
+    sl_decoder::Decoder decoder(rig, calibrationDecoderConfig(common.epipolar_tolerance));
     sl_decoder::DecodeResult result;
     for (const Source& s : sources)
     {
@@ -221,13 +197,9 @@ int main(int argc, char** argv)
         throw CalibrationError(residuals_path + ": cannot write the residuals");
       std::cout << "per-primitive residuals: " << residuals_path << "\n";
     }
-    sl_projector::saveRig(withTables(rig, res), out_path);
-    std::cout << "wrote " << out_path << " (depth_tables: linear and rational, " << res.calibrated << " primitives)\n";
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "sl_calibrate_plane: " << e.what() << "\nnothing written.\n";
-    return 1;
-  }
-  return 0;
+    sl_projector::saveRig(withTables(rig, res), common.out_path);
+    std::cout << "wrote " << common.out_path << " (depth_tables: linear and rational, " << res.calibrated
+              << " primitives)\n";
+  };
+  return tool::run("sl_calibrate_plane", kUsage, argc, argv, common, readOption, check, calibrate);
 }

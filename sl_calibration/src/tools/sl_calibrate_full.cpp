@@ -46,18 +46,18 @@ struct PoseArg
 {
   std::string board, pattern;
 };
-}  // namespace
 
-int main(int argc, char** argv)
+/// The options of this tool beyond the common ones, and the views.
+struct FullArgs
 {
-  tool::CommonOptions common;
   std::string board_size, camera_info, camera_info_out;
   double square = 0.0;
   FullCalibrationOptions options;
   std::vector<std::string> camera_views;
   std::vector<PoseArg> poses;
   std::vector<std::pair<std::string, double>> planes;
-  auto readOption = [&](const std::string& a, sl_projector::ToolArgs& args)
+
+  bool read(const std::string& a, sl_projector::ToolArgs& args)
   {
     if (a == "--board")
       board_size = args.value();
@@ -66,13 +66,7 @@ int main(int argc, char** argv)
     else if (a == "--camera-view")
       camera_views.push_back(args.value());
     else if (a == "--pose")
-    {
-      const std::string v = args.value();
-      const size_t comma = v.find(',');
-      if (comma == std::string::npos || comma == 0 || comma + 1 == v.size())
-        throw std::invalid_argument("--pose needs BOARD_IMAGE,PATTERN_IMAGE, got '" + v + "'");
-      poses.push_back(PoseArg{ v.substr(0, comma), v.substr(comma + 1) });
-    }
+      poses.push_back(parsePose(args.value()));
     else if (a == "--plane")
     {
       std::string path;
@@ -91,53 +85,80 @@ int main(int argc, char** argv)
     else
       return false;
     return true;
-  };
-  auto check = [&]
+  }
+
+  void check() const
   {
     if (board_size.empty() && (!camera_views.empty() || !poses.empty()))
       throw std::invalid_argument("--board and --square are required with board images");
-  };
-  auto calibrate = [&](bool& written)
+  }
+
+  static PoseArg parsePose(const std::string& v)
   {
-    options.distance_planes = common.planes;
-    options.epipolar_tolerance = common.epipolar_tolerance;
-    const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
-    Board board;
-    if (!board_size.empty())
-      board = parseBoardSize(board_size, square);
-    FullCalibration calibration(rig, board, options);
-    if (!camera_info.empty())
-      calibration.setCamera(loadCameraInfo(camera_info));
-    for (const std::string& v : camera_views)
-      for (const std::string& file : listImages(v))
-      {
-        calibration.addCameraView(file, readGreyImage(file));
-        std::cout << file << ": checkerboard found\n";
-      }
-    for (const PoseArg& p : poses)
+    const size_t comma = v.find(',');
+    if (comma == std::string::npos || comma == 0 || comma + 1 == v.size())
+      throw std::invalid_argument("--pose needs BOARD_IMAGE,PATTERN_IMAGE, got '" + v + "'");
+    return PoseArg{ v.substr(0, comma), v.substr(comma + 1) };
+  }
+};
+
+/// Adds every view of @p a to @p calibration, saying what was found in each.
+void addViews(const FullArgs& a, FullCalibration& calibration)
+{
+  for (const std::string& v : a.camera_views)
+    for (const std::string& file : listImages(v))
     {
-      calibration.addPlaneView(p.board, readGreyImage(p.board), p.pattern, readGreyImage(p.pattern));
-      std::cout << p.board << ": checkerboard found; " << p.pattern << ": pattern decoded\n";
+      calibration.addCameraView(file, readGreyImage(file));
+      std::cout << file << ": checkerboard found\n";
     }
-    for (const auto& p : planes)
-    {
-      calibration.addDistanceView(p.first, readGreyImage(p.first), p.second);
-      std::cout << p.first << ": pattern decoded, plane at " << fixed(p.second, 3) << " m\n";
-    }
-    const FullCalibrationResult res = calibration.calibrate();
-    std::cout << "\n" << res.summary();
-    sl_projector::saveRig(res.rig, common.out_path);
-    written = true;
-    std::cout << "wrote " << common.out_path
-              << (rig.tables.rational.empty() && rig.tables.linear.empty()
-                      ? std::string()
-                      : std::string(" (depth_tables kept from ") + common.rig_path + ")")
-              << "\n";
-    if (!camera_info_out.empty())
-    {
-      saveCameraInfo(res.rig.camera, camera_info_out);
-      std::cout << "wrote " << camera_info_out << " (camera_info)\n";
-    }
-  };
-  return tool::run("sl_calibrate_full", kUsage, argc, argv, common, readOption, check, calibrate);
+  for (const PoseArg& p : a.poses)
+  {
+    calibration.addPlaneView(p.board, readGreyImage(p.board), p.pattern, readGreyImage(p.pattern));
+    std::cout << p.board << ": checkerboard found; " << p.pattern << ": pattern decoded\n";
+  }
+  for (const auto& p : a.planes)
+  {
+    calibration.addDistanceView(p.first, readGreyImage(p.first), p.second);
+    std::cout << p.first << ": pattern decoded, plane at " << fixed(p.second, 3) << " m\n";
+  }
+}
+
+/// Calibrates and writes the output file(s); @p written is set once the calibration file is.
+void calibrate(const tool::CommonOptions& common, FullArgs a, bool& written)
+{
+  a.options.distance_planes = common.planes;
+  a.options.epipolar_tolerance = common.epipolar_tolerance;
+  const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
+  Board board;
+  if (!a.board_size.empty())
+    board = parseBoardSize(a.board_size, a.square);
+  FullCalibration calibration(rig, board, a.options);
+  if (!a.camera_info.empty())
+    calibration.setCamera(loadCameraInfo(a.camera_info));
+  addViews(a, calibration);
+  const FullCalibrationResult res = calibration.calibrate();
+  std::cout << "\n" << res.summary();
+  sl_projector::saveRig(res.rig, common.out_path);
+  written = true;
+  std::cout << "wrote " << common.out_path
+            << (rig.tables.rational.empty() && rig.tables.linear.empty()
+                    ? std::string()
+                    : std::string(" (depth_tables kept from ") + common.rig_path + ")")
+            << "\n";
+  if (!a.camera_info_out.empty())
+  {
+    saveCameraInfo(res.rig.camera, a.camera_info_out);
+    std::cout << "wrote " << a.camera_info_out << " (camera_info)\n";
+  }
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  tool::CommonOptions common;
+  FullArgs a;
+  return tool::run(
+      "sl_calibrate_full", kUsage, argc, argv, common,
+      [&](const std::string& option, sl_projector::ToolArgs& args) { return a.read(option, args); }, [&] { a.check(); },
+      [&](bool& written) { calibrate(common, a, written); });
 }

@@ -3,6 +3,7 @@
 // residuals and writes the tables into the rig (calibration) file. No ROS master needed.
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -54,76 +55,95 @@ bool endsWith(const std::string& s, const std::string& suffix)
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// Calls @p add for every image of a source; returns the number of images.
-template <typename Add>
-int forEachImage(const Source& source, const std::string& topic, Add add)
-{
-  int n = 0;
-  if (endsWith(source.path, ".bag"))
-  {
+/// Called with every image of a source and its name in messages.
+using AddImage = std::function<void(const std::string& name, const cv::Mat& grey)>;
+
 #ifdef SL_CALIBRATION_WITH_ROSBAG
-    rosbag::Bag bag;
-    try
-    {
-      bag.open(source.path, rosbag::bagmode::Read);
-    }
-    catch (const std::exception& e)
-    {
-      throw CalibrationError(source.path + ": cannot open the bag: " + e.what());
-    }
-    std::string chosen = topic;
-    if (chosen.empty())
-    {
-      rosbag::View all(bag);
-      std::vector<std::string> image_topics;
-      for (const rosbag::ConnectionInfo* c : all.getConnections())
-        if ((c->datatype == "sensor_msgs/Image" || c->datatype == "sensor_msgs/CompressedImage") &&
-            std::find(image_topics.begin(), image_topics.end(), c->topic) == image_topics.end())
-          image_topics.push_back(c->topic);
-      if (image_topics.size() != 1)
-      {
-        std::string list;
-        for (const std::string& t : image_topics)
-          list += " " + t;
-        throw CalibrationError(source.path + ": " +
-                               (image_topics.empty() ? std::string("no image topic in the bag")
-                                                     : "several image topics, choose one with --topic:" + list));
-      }
-      chosen = image_topics.front();
-    }
-    rosbag::View view(bag, rosbag::TopicQuery(chosen));
-    int index = 0;
-    for (const rosbag::MessageInstance& m : view)
-    {
-      const std::string name = source.path + "[" + chosen + " #" + std::to_string(index++) + "]";
-      cv::Mat grey;
-      try
-      {
-        if (sensor_msgs::Image::ConstPtr img = m.instantiate<sensor_msgs::Image>())
-        {
-          bool converted = false;
-          grey = sl_decoder::toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
-        }
-        else if (sensor_msgs::CompressedImage::ConstPtr c = m.instantiate<sensor_msgs::CompressedImage>())
-          grey = cv::imdecode(c->data, cv::IMREAD_GRAYSCALE);
-      }
-      catch (const std::exception& e)
-      {
-        throw CalibrationError(name + ": cannot convert the image: " + e.what());
-      }
-      if (grey.empty())
-        throw CalibrationError(name + ": not an image it can read");
-      add(name, grey);
-      ++n;
-    }
-    if (n == 0)
-      throw CalibrationError(source.path + ": no messages on " + chosen);
-    return n;
-#else
-    (void)topic;
-    throw CalibrationError(source.path + ": this sl_calibrate_plane was built without rosbag (librosbag-dev)");
-#endif
+/// The only image topic (sensor_msgs/Image or CompressedImage) of @p bag.
+std::string onlyImageTopic(const rosbag::Bag& bag, const std::string& path)
+{
+  rosbag::View all(bag);
+  std::vector<std::string> image_topics;
+  for (const rosbag::ConnectionInfo* c : all.getConnections())
+    if ((c->datatype == "sensor_msgs/Image" || c->datatype == "sensor_msgs/CompressedImage") &&
+        std::find(image_topics.begin(), image_topics.end(), c->topic) == image_topics.end())
+      image_topics.push_back(c->topic);
+  if (image_topics.size() != 1)
+  {
+    std::string list;
+    for (const std::string& t : image_topics)
+      list += " " + t;
+    throw CalibrationError(path + ": " +
+                           (image_topics.empty() ? std::string("no image topic in the bag")
+                                                 : "several image topics, choose one with --topic:" + list));
   }
+  return image_topics.front();
+}
+
+/// The image of a bag message as 8-bit grey. @throws CalibrationError naming @p name.
+cv::Mat greyImageOf(const rosbag::MessageInstance& m, const std::string& name)
+{
+  cv::Mat grey;
+  try
+  {
+    if (sensor_msgs::Image::ConstPtr img = m.instantiate<sensor_msgs::Image>())
+    {
+      bool converted = false;
+      grey = sl_decoder::toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
+    }
+    else if (sensor_msgs::CompressedImage::ConstPtr c = m.instantiate<sensor_msgs::CompressedImage>())
+      grey = cv::imdecode(c->data, cv::IMREAD_GRAYSCALE);
+  }
+  catch (const std::exception& e)
+  {
+    throw CalibrationError(name + ": cannot convert the image: " + e.what());
+  }
+  if (grey.empty())
+    throw CalibrationError(name + ": not an image it can read");
+  return grey;
+}
+#endif
+
+/// Calls @p add for every image on @p topic (empty: the only image topic) of the bag @p path;
+/// returns the number of images.
+int forEachBagImage(const std::string& path, const std::string& topic, const AddImage& add)
+{
+#ifdef SL_CALIBRATION_WITH_ROSBAG
+  rosbag::Bag bag;
+  try
+  {
+    bag.open(path, rosbag::bagmode::Read);
+  }
+  catch (const std::exception& e)
+  {
+    throw CalibrationError(path + ": cannot open the bag: " + e.what());
+  }
+  const std::string chosen = topic.empty() ? onlyImageTopic(bag, path) : topic;
+  rosbag::View view(bag, rosbag::TopicQuery(chosen));
+  int n = 0;
+  for (const rosbag::MessageInstance& m : view)
+  {
+    const std::string name = path + "[" + chosen + " #" + std::to_string(n) + "]";
+    add(name, greyImageOf(m, name));
+    ++n;
+  }
+  if (n == 0)
+    throw CalibrationError(path + ": no messages on " + chosen);
+  return n;
+#else
+  (void)topic;
+  (void)add;
+  throw CalibrationError(path + ": this sl_calibrate_plane was built without rosbag (librosbag-dev)");
+#endif
+}
+
+/// Calls @p add for every image of a source (a bag, a folder or an image file); returns the
+/// number of images.
+int forEachImage(const Source& source, const std::string& topic, const AddImage& add)
+{
+  if (endsWith(source.path, ".bag"))
+    return forEachBagImage(source.path, topic, add);
+  int n = 0;
   for (const std::string& file : listImages(source.path))
   {
     add(file, readGreyImage(file));
@@ -131,15 +151,14 @@ int forEachImage(const Source& source, const std::string& topic, Add add)
   }
   return n;
 }
-}  // namespace
 
-int main(int argc, char** argv)
+/// The options of this tool beyond the common ones (the plane options are there too), and the sources.
+struct PlaneArgs
 {
-  tool::CommonOptions common;
   std::string residuals_path, topic;
   std::vector<Source> sources;
-  PlaneCalibrationOptions& options = common.planes;
-  auto readOption = [&](const std::string& a, sl_projector::ToolArgs& args)
+
+  bool read(const std::string& a, sl_projector::ToolArgs& args, PlaneCalibrationOptions& options)
   {
     if (a == "--min-distances")
       options.min_distances = static_cast<int>(args.integer(1, 1000));
@@ -158,48 +177,68 @@ int main(int argc, char** argv)
       sources.push_back(s);
     }
     return true;
-  };
-  auto check = [&]
+  }
+
+  void check() const
   {
     if (sources.empty())
       throw std::invalid_argument("no SOURCE:DISTANCE given");
-  };
-  auto calibrate = [&](bool&)
+  }
+};
+
+/// Decodes every image of every source and adds it to @p calibration, saying how much each gave.
+void addSources(const PlaneArgs& a, const sl_projector::Rig& rig, double epipolar_tolerance,
+                PlaneCalibration& calibration)
+{
+  sl_decoder::Decoder decoder(rig, calibrationDecoderConfig(epipolar_tolerance));
+  sl_decoder::DecodeResult result;
+  for (const Source& s : a.sources)
   {
-    const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
-    PlaneCalibration calibration(rig, options);
-    sl_decoder::Decoder decoder(rig, calibrationDecoderConfig(common.epipolar_tolerance));
-    sl_decoder::DecodeResult result;
-    for (const Source& s : sources)
-    {
-      forEachImage(s, topic,
-                   [&](const std::string& name, const cv::Mat& grey)
-                   {
-                     if (grey.cols != rig.camera.width || grey.rows != rig.camera.height)
-                       throw CalibrationError(name + ": the image is " + std::to_string(grey.cols) + " x " +
-                                              std::to_string(grey.rows) + " px, the rig's camera " +
-                                              std::to_string(rig.camera.width) + " x " +
-                                              std::to_string(rig.camera.height));
-                     decoder.decode(grey, result);
-                     const int n = calibration.addImage(s.distance, result, name);
-                     std::cout << name << ": " << n << " primitives at " << fixed(s.distance, 3) << " m\n";
-                     if (n == 0)
-                       std::cerr << "sl_calibrate_plane: warning: " << name
-                                 << ": no primitive decoded (projector off? plane not in view? wrong --rig?)\n";
-                   });
-    }
-    const PlaneCalibrationResult res = calibration.fit();
-    std::cout << "\n" << res.summary();
-    if (!residuals_path.empty())
-    {
-      std::ofstream csv(residuals_path);
-      if (!csv || !(csv << res.residualsCsv()))
-        throw CalibrationError(residuals_path + ": cannot write the residuals");
-      std::cout << "per-primitive residuals: " << residuals_path << "\n";
-    }
-    sl_projector::saveRig(withTables(rig, res), common.out_path);
-    std::cout << "wrote " << common.out_path << " (depth_tables: linear and rational, " << res.calibrated
-              << " primitives)\n";
-  };
-  return tool::run("sl_calibrate_plane", kUsage, argc, argv, common, readOption, check, calibrate);
+    forEachImage(s, a.topic,
+                 [&](const std::string& name, const cv::Mat& grey)
+                 {
+                   if (grey.cols != rig.camera.width || grey.rows != rig.camera.height)
+                     throw CalibrationError(name + ": the image is " + std::to_string(grey.cols) + " x " +
+                                            std::to_string(grey.rows) + " px, the rig's camera " +
+                                            std::to_string(rig.camera.width) + " x " +
+                                            std::to_string(rig.camera.height));
+                   decoder.decode(grey, result);
+                   const int n = calibration.addImage(s.distance, result, name);
+                   std::cout << name << ": " << n << " primitives at " << fixed(s.distance, 3) << " m\n";
+                   if (n == 0)
+                     std::cerr << "sl_calibrate_plane: warning: " << name
+                               << ": no primitive decoded (projector off? plane not in view? wrong --rig?)\n";
+                 });
+  }
+}
+
+/// Calibrates and writes the residuals (if asked) and the calibration file.
+void calibrate(const tool::CommonOptions& common, const PlaneArgs& a)
+{
+  const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
+  PlaneCalibration calibration(rig, common.planes);
+  addSources(a, rig, common.epipolar_tolerance, calibration);
+  const PlaneCalibrationResult res = calibration.fit();
+  std::cout << "\n" << res.summary();
+  if (!a.residuals_path.empty())
+  {
+    std::ofstream csv(a.residuals_path);
+    if (!csv || !(csv << res.residualsCsv()))
+      throw CalibrationError(a.residuals_path + ": cannot write the residuals");
+    std::cout << "per-primitive residuals: " << a.residuals_path << "\n";
+  }
+  sl_projector::saveRig(withTables(rig, res), common.out_path);
+  std::cout << "wrote " << common.out_path << " (depth_tables: linear and rational, " << res.calibrated
+            << " primitives)\n";
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  tool::CommonOptions common;
+  PlaneArgs a;
+  return tool::run(
+      "sl_calibrate_plane", kUsage, argc, argv, common,
+      [&](const std::string& option, sl_projector::ToolArgs& args) { return a.read(option, args, common.planes); },
+      [&] { a.check(); }, [&](bool&) { calibrate(common, a); });
 }

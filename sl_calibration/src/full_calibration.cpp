@@ -444,6 +444,7 @@ FullCalibrationResult FullCalibration::calibrate() const
   // 4. Everything together, from the separate fits.
   if (options_.joint_refinement)
     refineJointly(rig, corr, board_poses, out);
+  // 5. The rig with the calibrated models and pose.
   out.rig = calibratedRig(rig, out);
   return out;
 }

@@ -137,39 +137,39 @@ sl_projector::DepthModel fitLinear(const std::vector<double>& u, const std::vect
   return m;
 }
 
-sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::vector<double>& depth)
+namespace
 {
-  sl_projector::DepthModel m;
-  const size_t n = u.size();
-  if (n < 3 || depth.size() != n)
-    return m;
-  // Work in t = (u - centre) / scale, where the denominator stays far from its pole.
-  const auto range = std::minmax_element(u.begin(), u.end());
-  const double centre = 0.5 * (*range.first + *range.second);
-  const double scale = std::max(1.0, 0.5 * (*range.second - *range.first));
-  if (*range.second - *range.first < 1e-6)
-    return m;
-  std::vector<double> t(n);
-  for (size_t i = 0; i < n; ++i)
-    t[i] = (u[i] - centre) / scale;
+/// The rational model in t = (u - centre) / scale, where the denominator stays far from its pole:
+/// depth = (p0 + p1 t) / (1 + p2 t), fitted to the points (t, depth).
+struct RationalInT
+{
+  const std::vector<double>& t;
+  const std::vector<double>& depth;
 
-  // Algebraic solution: A + B t - C t z = z (exact for three points).
-  Eigen::MatrixXd M(n, 3);
-  Eigen::VectorXd rhs(n);
-  for (size_t i = 0; i < n; ++i)
+  /// The algebraic solution of p0 + p1 t - p2 t z = z (exact for three points); false if degenerate.
+  bool algebraic(Eigen::Vector3d& p) const
   {
-    M(static_cast<long>(i), 0) = 1.0;
-    M(static_cast<long>(i), 1) = t[i];
-    M(static_cast<long>(i), 2) = -t[i] * depth[i];
-    rhs(static_cast<long>(i)) = depth[i];
+    const size_t n = t.size();
+    Eigen::MatrixXd M(n, 3);
+    Eigen::VectorXd rhs(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      M(static_cast<long>(i), 0) = 1.0;
+      M(static_cast<long>(i), 1) = t[i];
+      M(static_cast<long>(i), 2) = -t[i] * depth[i];
+      rhs(static_cast<long>(i)) = depth[i];
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(M);
+    if (qr.rank() < 3)
+      return false;
+    p = qr.solve(rhs);
+    return true;
   }
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(M);
-  if (qr.rank() < 3)
-    return m;
-  Eigen::Vector3d p = qr.solve(rhs);
 
-  auto residuals = [&](const Eigen::Vector3d& q, Eigen::VectorXd& r)
+  /// The residuals model - depth of @p q in @p r; returns their squared norm.
+  double residuals(const Eigen::Vector3d& q, Eigen::VectorXd& r) const
   {
+    const size_t n = t.size();
     r.resize(static_cast<long>(n));
     for (size_t i = 0; i < n; ++i)
     {
@@ -177,20 +177,16 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
       r(static_cast<long>(i)) = (q(0) + q(1) * t[i]) / den - depth[i];
     }
     return r.squaredNorm();
-  };
-  auto poleFree = [&](const Eigen::Vector3d& q)
-  {
-    // The denominator is linear in t: positive at both ends means positive over the whole range.
-    return 1.0 + q(2) * -1.0 > 1e-3 && 1.0 + q(2) * 1.0 > 1e-3;
-  };
-  if (!poleFree(p) || !p.allFinite())
-    return m;
+  }
 
-  // Gauss-Newton (with step halving) on the depth residual when over-determined.
-  Eigen::VectorXd r;
-  double cost = residuals(p, r);
-  if (n > 3)
+  /// The denominator is linear in t: positive at both ends means positive over the whole range.
+  static bool poleFree(const Eigen::Vector3d& q) { return 1.0 + q(2) * -1.0 > 1e-3 && 1.0 + q(2) * 1.0 > 1e-3; }
+
+  /// Gauss-Newton with step halving on the depth residual, from @p p whose residuals are @p r and
+  /// cost @p cost (all three updated).
+  void refine(Eigen::Vector3d& p, Eigen::VectorXd& r, double& cost) const
   {
+    const size_t n = t.size();
     for (int it = 0; it < 20; ++it)
     {
       Eigen::MatrixXd J(n, 3);
@@ -225,6 +221,34 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
         break;
     }
   }
+};
+}  // namespace
+
+sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::vector<double>& depth)
+{
+  sl_projector::DepthModel m;
+  const size_t n = u.size();
+  if (n < 3 || depth.size() != n)
+    return m;
+  // Work in t = (u - centre) / scale, where the denominator stays far from its pole.
+  const auto range = std::minmax_element(u.begin(), u.end());
+  const double centre = 0.5 * (*range.first + *range.second);
+  const double scale = std::max(1.0, 0.5 * (*range.second - *range.first));
+  if (*range.second - *range.first < 1e-6)
+    return m;
+  std::vector<double> t(n);
+  for (size_t i = 0; i < n; ++i)
+    t[i] = (u[i] - centre) / scale;
+
+  // The algebraic solution, then (when over-determined) least squares on the depth residual.
+  const RationalInT model{ t, depth };
+  Eigen::Vector3d p;
+  if (!model.algebraic(p) || !RationalInT::poleFree(p) || !p.allFinite())
+    return m;
+  Eigen::VectorXd r;
+  double cost = model.residuals(p, r);
+  if (n > 3)
+    model.refine(p, r, cost);
 
   // Back to the image column: z = ((A s - B c) + B u) / ((s - C c) + C u), normalised to 1 + c u.
   const double num0 = p(0) * scale - p(1) * centre;

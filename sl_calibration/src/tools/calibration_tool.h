@@ -90,5 +90,21 @@ inline int run(const std::string& name, const char* usage, int argc, char** argv
   return 0;
 }
 
+/**
+ * Runs the tool whose own options are an @p Args (`bool read(option, args, common)`, `void check()`)
+ * and whose work is @p calibrate (it sets `written` once the output file is written).
+ */
+template <typename Args>
+int run(const std::string& name, const char* usage, int argc, char** argv,
+        void (*calibrate)(const CommonOptions& common, const Args& args, bool& written))
+{
+  CommonOptions common;
+  Args a;
+  return run(
+      name, usage, argc, argv, common,
+      [&](const std::string& option, sl_projector::ToolArgs& args) { return a.read(option, args, common); },
+      [&] { a.check(); }, [&](bool& written) { calibrate(common, a, written); });
+}
+
 }  // namespace tool
 }  // namespace sl_calibration

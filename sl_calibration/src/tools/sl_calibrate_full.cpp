@@ -57,7 +57,7 @@ struct FullArgs
   std::vector<PoseArg> poses;
   std::vector<std::pair<std::string, double>> planes;
 
-  bool read(const std::string& a, sl_projector::ToolArgs& args)
+  bool read(const std::string& a, sl_projector::ToolArgs& args, tool::CommonOptions&)
   {
     if (a == "--board")
       board_size = args.value();
@@ -124,15 +124,16 @@ void addViews(const FullArgs& a, FullCalibration& calibration)
 }
 
 /// Calibrates and writes the output file(s); @p written is set once the calibration file is.
-void calibrate(const tool::CommonOptions& common, FullArgs a, bool& written)
+void calibrate(const tool::CommonOptions& common, const FullArgs& a, bool& written)
 {
-  a.options.distance_planes = common.planes;
-  a.options.epipolar_tolerance = common.epipolar_tolerance;
+  FullCalibrationOptions options = a.options;
+  options.distance_planes = common.planes;
+  options.epipolar_tolerance = common.epipolar_tolerance;
   const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
   Board board;
   if (!a.board_size.empty())
     board = parseBoardSize(a.board_size, a.square);
-  FullCalibration calibration(rig, board, a.options);
+  FullCalibration calibration(rig, board, options);
   if (!a.camera_info.empty())
     calibration.setCamera(loadCameraInfo(a.camera_info));
   addViews(a, calibration);
@@ -155,10 +156,5 @@ void calibrate(const tool::CommonOptions& common, FullArgs a, bool& written)
 
 int main(int argc, char** argv)
 {
-  tool::CommonOptions common;
-  FullArgs a;
-  return tool::run(
-      "sl_calibrate_full", kUsage, argc, argv, common,
-      [&](const std::string& option, sl_projector::ToolArgs& args) { return a.read(option, args); }, [&] { a.check(); },
-      [&](bool& written) { calibrate(common, a, written); });
+  return tool::run<FullArgs>("sl_calibrate_full", kUsage, argc, argv, calibrate);
 }

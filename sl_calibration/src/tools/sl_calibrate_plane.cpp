@@ -158,8 +158,9 @@ struct PlaneArgs
   std::string residuals_path, topic;
   std::vector<Source> sources;
 
-  bool read(const std::string& a, sl_projector::ToolArgs& args, PlaneCalibrationOptions& options)
+  bool read(const std::string& a, sl_projector::ToolArgs& args, tool::CommonOptions& common)
   {
+    PlaneCalibrationOptions& options = common.planes;
     if (a == "--min-distances")
       options.min_distances = static_cast<int>(args.integer(1, 1000));
     else if (a == "--max-rms")
@@ -213,7 +214,7 @@ void addSources(const PlaneArgs& a, const sl_projector::Rig& rig, double epipola
 }
 
 /// Calibrates and writes the residuals (if asked) and the calibration file.
-void calibrate(const tool::CommonOptions& common, const PlaneArgs& a)
+void calibrate(const tool::CommonOptions& common, const PlaneArgs& a, bool&)
 {
   const sl_projector::Rig rig = sl_projector::loadRig(common.rig_path);
   PlaneCalibration calibration(rig, common.planes);
@@ -235,10 +236,5 @@ void calibrate(const tool::CommonOptions& common, const PlaneArgs& a)
 
 int main(int argc, char** argv)
 {
-  tool::CommonOptions common;
-  PlaneArgs a;
-  return tool::run(
-      "sl_calibrate_plane", kUsage, argc, argv, common,
-      [&](const std::string& option, sl_projector::ToolArgs& args) { return a.read(option, args, common.planes); },
-      [&] { a.check(); }, [&](bool&) { calibrate(common, a); });
+  return tool::run<PlaneArgs>("sl_calibrate_plane", kUsage, argc, argv, calibrate);
 }

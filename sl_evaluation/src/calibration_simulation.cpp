@@ -8,16 +8,16 @@
 namespace sl_evaluation
 {
 
+using sl_calibration::Board;
+using sl_calibration::CalibrationError;
+using sl_calibration::DistanceReference;
+using sl_calibration::PlaneCalibrationOptions;
+using sl_calibration::PlaneNormal;
 using sl_decoder::Blob;
 using sl_decoder::Decoder;
 using sl_decoder::DecoderConfig;
 using sl_decoder::DecodeResult;
 using sl_decoder::DepthMode;
-using sl_decoder::calibration::Board;
-using sl_decoder::calibration::CalibrationError;
-using sl_decoder::calibration::DistanceReference;
-using sl_decoder::calibration::PlaneCalibrationOptions;
-using sl_decoder::calibration::PlaneNormal;
 
 SimScenes findSimScenes(const std::string& dir_in)
 {

@@ -1,196 +1,20 @@
-// Full calibration: the projector as an inverse camera on synthetic correspondences (exact, noisy,
-// with wrong decodes), the round trip in simulation (render the checkerboard and pattern views,
-// calibrate, compare with the true rig) with the floors, and the errors for bad input.
+// Full calibration on rendered views: the round trip in simulation (render the checkerboard and
+// pattern views, calibrate, compare with the true rig) with the floors, from the true and a
+// rough rig, known camera with known-distance planes, and the errors for bad images. The projector
+// fit on synthetic correspondences and the camera_info files are in sl_calibration_test.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <tuple>
-#include <random>
 #include <string>
+#include <tuple>
 
-#include <unistd.h>
-
-#include <opencv2/calib3d.hpp>
-
-#include "sl_decoder/calibration/full_calibration.h"
+#include "sl_calibration/full_calibration.h"
 #include "sl_evaluation/calibration_simulation.h"
+#include "true_rig.h"
 
 using namespace sl_decoder;
-using namespace sl_decoder::calibration;
+using namespace sl_calibration;
 using namespace sl_evaluation;
-
-namespace
-{
-const sl_projector::Rig& trueRig()
-{
-  static const sl_projector::Rig rig = sl_projector::loadRig(defaultRigFile());
-  return rig;
-}
-
-/// Planes in the camera frame: distance d along the axis, normal turned by yaw / pitch (rad).
-CalibrationPlane tilted(double d, double yaw, double pitch)
-{
-  CalibrationPlane p;
-  p.normal = Eigen::Vector3d(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
-  p.offset = d * p.normal.z();
-  return p;
-}
-
-/// Synthetic correspondences: every primitive the true projector throws onto the plane and the
-/// camera sees, with the camera pixel perturbed by @p noise px.
-std::vector<ProjectorCorrespondence> synthetic(const std::vector<CalibrationPlane>& planes, double noise, uint32_t seed)
-{
-  const sl_projector::Rig& rig = trueRig();
-  const sl_projector::Pattern pattern(rig.pattern);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> n(0.0, noise);
-  std::vector<ProjectorCorrespondence> out;
-  for (size_t v = 0; v < planes.size(); ++v)
-  {
-    std::vector<PrimitiveSample> samples;
-    for (int r = 0; r < rig.pattern.rows; ++r)
-      for (int c = 0; c < rig.pattern.cols; ++c)
-      {
-        const cv::Point2d q = pattern.primitiveCentroid(r, c);
-        Eigen::Vector3d o, dir;
-        rig.projectorRay(Eigen::Vector2d(q.x, q.y), o, dir);
-        const double s = (planes[v].offset - planes[v].normal.dot(o)) / planes[v].normal.dot(dir);
-        const Eigen::Vector2d px = rig.camera.project(o + s * dir);
-        if (!rig.camera.inImage(px))
-          continue;
-        samples.push_back(PrimitiveSample{ r, c, px.x() + n(rng), px.y() + n(rng) });
-      }
-    const std::vector<ProjectorCorrespondence> c =
-        projectorCorrespondences(pattern, rig.camera, planes[v], samples, static_cast<int>(v));
-    out.insert(out.end(), c.begin(), c.end());
-  }
-  return out;
-}
-
-const std::vector<CalibrationPlane> kPlanes{ tilted(0.55, 0.35, 0.0), tilted(0.6, -0.35, 0.0), tilted(0.65, 0.0, 0.3),
-                                             tilted(0.7, 0.0, -0.3) };
-
-void expectClose(const sl_projector::Rig& cal, double focal_percent, double translation_mm, double rotation_deg)
-{
-  const RigComparison c = compareRigs(cal, trueRig());
-  std::cout << c.summary();
-  EXPECT_LT(std::abs(c.projector_fx_percent), focal_percent);
-  EXPECT_LT(std::abs(c.projector_fy_percent), focal_percent);
-  EXPECT_LT(c.translation_mm, translation_mm);
-  EXPECT_LT(c.rotation_deg, rotation_deg);
-}
-}  // namespace
-
-TEST(CalibrationProjector, ExactCorrespondencesGiveTheTrueProjector)
-{
-  const std::vector<ProjectorCorrespondence> corr = synthetic(kPlanes, 0.0, 1);
-  ASSERT_GT(corr.size(), 2000u);
-  const ProjectorCalibrationResult r = calibrateProjector(corr, 480, 320);
-  EXPECT_LT(r.rms, 0.01);
-  EXPECT_EQ(r.outliers, 0);
-  sl_projector::Rig cal = trueRig();
-  cal.projector = r.projector;
-  cal.projector_pose = r.pose;
-  expectClose(cal, 0.01, 0.01, 0.001);
-  EXPECT_NEAR(r.projector.dist[0], trueRig().projector.dist[0], 1e-4);
-}
-
-TEST(CalibrationProjector, NoiseAndWrongDecodes)
-{
-  std::vector<ProjectorCorrespondence> corr = synthetic(kPlanes, 0.15, 2);
-  // 15 % wrong decodes: the primitive taken for one 3 columns away.
-  std::mt19937 rng(5);
-  const sl_projector::Pattern pattern(trueRig().pattern);
-  int wrong = 0;
-  for (size_t i = 0; i < corr.size(); i += 7)
-  {
-    const int col = (corr[i].col + 3) % trueRig().pattern.cols;
-    const cv::Point2d q = pattern.primitiveCentroid(corr[i].row, col);
-    corr[i].projector = Eigen::Vector2d(q.x, q.y);
-    ++wrong;
-  }
-  const ProjectorCalibrationResult r = calibrateProjector(corr, 480, 320);
-  EXPECT_GE(r.outliers, wrong * 9 / 10);
-  EXPECT_LT(r.rms, 0.3);
-  sl_projector::Rig cal = trueRig();
-  cal.projector = r.projector;
-  cal.projector_pose = r.pose;
-  expectClose(cal, 0.3, 0.5, 0.1);
-}
-
-TEST(CalibrationProjector, ErrorsForTooFewOrDegenerateViews)
-{
-  const std::vector<ProjectorCorrespondence> two = synthetic({ kPlanes[0], kPlanes[1] }, 0.0, 3);
-  try
-  {
-    calibrateProjector(two, 480, 320);
-    FAIL() << "two views";
-  }
-  catch (const CalibrationError& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("needs >= 3 plane poses"), std::string::npos) << e.what();
-  }
-  // Three "views" of the same plane: the points are coplanar.
-  const std::vector<ProjectorCorrespondence> same = synthetic({ kPlanes[0], kPlanes[0], kPlanes[0] }, 0.0, 4);
-  EXPECT_THROW(calibrateProjector(same, 480, 320), CalibrationError);
-}
-
-TEST(CalibrationCamera, CameraInfoRoundTripAndErrors)
-{
-  const sl_projector::PinholeModel& cam = trueRig().camera;
-  const std::string prefix = ::testing::TempDir() + "/sl_calibration_" + std::to_string(getpid()) + "_";
-  const std::string path = prefix + "camera_info.yaml";
-  saveCameraInfo(cam, path, "sl_camera");
-  const sl_projector::PinholeModel back = loadCameraInfo(path);
-  EXPECT_EQ(back.width, cam.width);
-  EXPECT_DOUBLE_EQ(back.fx, cam.fx);
-  EXPECT_DOUBLE_EQ(back.cy, cam.cy);
-  for (size_t i = 0; i < 5; ++i)
-    EXPECT_DOUBLE_EQ(back.dist[i], cam.dist[i]);
-  // ROS camera_calibration's layout, 5 coefficients, block style.
-  const std::string ros = prefix + "ost.yaml";
-  {
-    std::ofstream o(ros);
-    o << "image_width: 752\nimage_height: 480\ncamera_name: narrow_stereo\ncamera_matrix:\n  rows: 3\n  cols: 3\n"
-         "  data: [1490.5, 0, 371.2, 0, 1491.5, 244.1, 0, 0, 1]\ndistortion_model: plumb_bob\n"
-         "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [-0.081, 0.13, 0.0004, -0.0002, 0]\n"
-         "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
-         "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [1490.5, 0, 371.2, 0, 0, 1491.5, 244.1, 0, 0, 0, 1, 0]\n";
-  }
-  const sl_projector::PinholeModel r = loadCameraInfo(ros);
-  EXPECT_DOUBLE_EQ(r.fy, 1491.5);
-  EXPECT_DOUBLE_EQ(r.dist[1], 0.13);
-  const std::string bad = prefix + "bad.yaml";
-  {
-    std::ofstream o(bad);
-    o << "image_width: 752\nimage_height: 480\ncamera_matrix:\n  data: [1, 0, 2]\n";
-  }
-  try
-  {
-    loadCameraInfo(bad);
-    FAIL();
-  }
-  catch (const CalibrationError& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("camera_matrix.data: has 3 numbers, expected 9"), std::string::npos)
-        << e.what();
-  }
-  EXPECT_THROW(loadCameraInfo(prefix + "does_not_exist.yaml"), CalibrationError);
-  for (const std::string& f : { path, ros, bad })
-    std::remove(f.c_str());
-}
-
-TEST(CalibrationCamera, BoardSizeParsing)
-{
-  const Board b = parseBoardSize("9x6", 0.022);
-  EXPECT_EQ(b.cols, 9);
-  EXPECT_EQ(b.rows, 6);
-  EXPECT_EQ(b.objectPoints().size(), 54u);
-  EXPECT_THROW(parseBoardSize("9by6", 0.022), std::invalid_argument);
-  EXPECT_THROW(parseBoardSize("6x6", 0.022), std::invalid_argument);  // symmetric: orientation ambiguous
-  EXPECT_THROW(parseBoardSize("9x6", 22.0), std::invalid_argument);   // mm given
-}
 
 namespace
 {

@@ -1,5 +1,5 @@
 // The calibration tools end to end on files (images written by the simulator), their exit status
-// and messages for bad input (nothing written), and the small parsing helpers.
+// and messages for bad input (nothing written). The parsing helpers are in sl_calibration_test.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -12,11 +12,11 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "sl_decoder/calibration/full_calibration.h"
+#include "sl_calibration/full_calibration.h"
 #include "sl_evaluation/calibration_simulation.h"
 
 using namespace sl_decoder;
-using namespace sl_decoder::calibration;
+using namespace sl_calibration;
 using namespace sl_evaluation;
 
 namespace
@@ -72,35 +72,6 @@ std::string wallImages(const std::string& dir, const std::vector<double>& distan
   return args;
 }
 }  // namespace
-
-TEST(CalibrationTools, ParsingHelpers)
-{
-  std::string path;
-  double d = 0.0;
-  parsePathAndNumber("/data/a:b/plane.png:0.55", path, d);
-  EXPECT_EQ(path, "/data/a:b/plane.png");
-  EXPECT_DOUBLE_EQ(d, 0.55);
-  EXPECT_THROW(parsePathAndNumber("plane.png", path, d), CalibrationError);
-  EXPECT_THROW(parsePathAndNumber("plane.png:far", path, d), CalibrationError);
-  EXPECT_EQ(parseNumberList("0.5,0.6,0.7"), (std::vector<double>{ 0.5, 0.6, 0.7 }));
-  EXPECT_THROW(parseNumberList("0.5,,0.7"), std::invalid_argument);
-  EXPECT_EQ(parseDistanceReference("edge"), DistanceReference::Edge);
-  EXPECT_THROW(parseDistanceReference("wall"), std::invalid_argument);
-  EXPECT_THROW(listImages(tempPath("no_such_folder")), CalibrationError);
-  const std::string empty = folder("calibration_empty");
-  try
-  {
-    listImages(empty);
-    FAIL();
-  }
-  catch (const CalibrationError& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("the folder has no images"), std::string::npos) << e.what();
-  }
-  std::ofstream(empty + "/broken.png") << "not a png";
-  EXPECT_THROW(readGreyImage(empty + "/broken.png"), CalibrationError);
-  std::system(("rm -rf '" + empty + "'").c_str());
-}
 
 TEST(CalibrationTools, PlaneToolWritesTheTablesOrNothing)
 {
@@ -158,10 +129,10 @@ TEST(CalibrationTools, FullToolAndSimulationDriver)
   ASSERT_EQ(run(std::string(SL_CALIBRATE_SIM_BIN) + " render --out-dir " + dir + " --distances 0.5,0.7,0.9", output), 0)
       << output;
   // The driver prints the commands; run the full calibration one.
-  const size_t at = output.find("rosrun sl_decoder sl_calibrate_full");
+  const size_t at = output.find("rosrun sl_calibration sl_calibrate_full");
   ASSERT_NE(at, std::string::npos) << output;
   std::string command = output.substr(at, output.find('\n', at) - at);
-  command.replace(0, std::string("rosrun sl_decoder sl_calibrate_full").size(), SL_CALIBRATE_FULL_BIN);
+  command.replace(0, std::string("rosrun sl_calibration sl_calibrate_full").size(), SL_CALIBRATE_FULL_BIN);
   const std::string plane_rig = dir + "/plane_calibrated.yaml";
   // It starts from the plane calibration's output, which does not exist yet: a clear error.
   EXPECT_EQ(run(command, output), 1);

@@ -11,8 +11,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "sl_decoder/calibration/camera_calibration.h"
-#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_calibration/camera_calibration.h"
+#include "sl_calibration/plane_calibration.h"
 #include "sl_evaluation/evaluation.h"
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
@@ -30,13 +30,13 @@ struct SimScenes
 
 /**
  * @brief The calibration scenes in @p dir (default: the simulator's scenes directory), sorted.
- * @throws sl_decoder::calibration::CalibrationError if the wall or any plane scene is missing.
+ * @throws sl_calibration::CalibrationError if the wall or any plane scene is missing.
  */
 SimScenes findSimScenes(const std::string& dir = "");
 
 /// @brief The board every calib_* scene uses: the checkerboard texture of its first board object.
 /// @throws CalibrationError if the scene has no checkerboard-textured plane.
-sl_decoder::calibration::Board boardOfScene(const sl_sim::Scene& scene);
+sl_calibration::Board boardOfScene(const sl_sim::Scene& scene);
 
 /**
  * @brief The pose of the robot's platform_edge in the world that puts the plane named "wall" of
@@ -45,8 +45,7 @@ sl_decoder::calibration::Board boardOfScene(const sl_sim::Scene& scene);
  * @throws CalibrationError if the scene has no such wall, or the normal is PlaneNormal::Camera.
  */
 Eigen::Isometry3d platformEdgeForDistance(const sl_projector::Rig& rig, const sl_sim::Scene& wall_scene,
-                                          double distance,
-                                          const sl_decoder::calibration::PlaneCalibrationOptions& options);
+                                          double distance, const sl_calibration::PlaneCalibrationOptions& options);
 
 /// @brief @p scene with every texture removed (a board covered by a blank sheet).
 sl_sim::Scene withoutTextures(const sl_sim::Scene& scene);
@@ -75,8 +74,7 @@ public:
   const sl_sim::RenderOutput& renderBoard(const sl_sim::Scene& scene, uint64_t seed);
   /// @brief The pattern image of the wall at @p distance (see platformEdgeForDistance()).
   const sl_sim::RenderOutput& renderWall(const sl_sim::Scene& wall_scene, double distance,
-                                         const sl_decoder::calibration::PlaneCalibrationOptions& options,
-                                         uint64_t seed);
+                                         const sl_calibration::PlaneCalibrationOptions& options, uint64_t seed);
 
   /// @brief The true rig.
   const sl_projector::Rig& rig() const { return rig_; }

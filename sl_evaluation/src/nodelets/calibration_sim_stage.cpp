@@ -44,7 +44,7 @@ private:
         throw std::invalid_argument("~scene_file: required (a scene with a plane named 'wall', e.g. calib_wall.yaml)");
       scene_ = sl_sim::loadScene(scene_file);
       sl_params::readIfSet(pnh, "reference", reference);
-      options_.reference = sl_decoder::calibration::parseDistanceReference(reference);
+      options_.reference = sl_calibration::parseDistanceReference(reference);
       sl_params::readIfSet(pnh, "robot_radius", robot_radius_);
       if (!(robot_radius_ >= 0.0 && robot_radius_ < 2.0))
         throw std::invalid_argument("~robot_radius: must be in [0, 2) m");
@@ -106,7 +106,7 @@ private:
 
   sl_projector::Rig rig_;
   sl_sim::Scene scene_;
-  sl_decoder::calibration::PlaneCalibrationOptions options_;
+  sl_calibration::PlaneCalibrationOptions options_;
   double robot_radius_ = 0.1675;
   std::string world_frame_ = "world", robot_frame_ = "base_footprint_true";
   double distance_ = 0.7;

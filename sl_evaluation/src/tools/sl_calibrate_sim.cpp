@@ -11,14 +11,14 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "sl_decoder/calibration/full_calibration.h"
+#include "sl_calibration/full_calibration.h"
 #include "sl_evaluation/calibration_simulation.h"
 #include "sl_projector/tool_args.h"
 
 namespace
 {
 using namespace sl_decoder;
-using namespace sl_decoder::calibration;
+using namespace sl_calibration;
 using namespace sl_evaluation;
 
 const char* kUsage =
@@ -181,9 +181,9 @@ int main(int argc, char** argv)
         pose_args += " --pose " + board_name + "," + pattern_name;
       }
       std::cout << "wrote the calibration images to " << out_dir << "\n\n"
-                << "plane calibration:\n  rosrun sl_decoder sl_calibrate_plane --rig " << rig_path << " --out "
+                << "plane calibration:\n  rosrun sl_calibration sl_calibrate_plane --rig " << rig_path << " --out "
                 << out_dir << "/plane_calibrated.yaml" << plane_args << "\n\n"
-                << "full calibration:\n  rosrun sl_decoder sl_calibrate_full --rig " << out_dir
+                << "full calibration:\n  rosrun sl_calibration sl_calibrate_full --rig " << out_dir
                 << "/plane_calibrated.yaml --out " << out_dir << "/calibrated.yaml --board " << board.cols << "x"
                 << board.rows << " --square " << board.square << board_args << pose_args << "\n\n"
                 << "evaluation:\n  rosrun sl_evaluation sl_calibrate_sim evaluate --calibration " << out_dir

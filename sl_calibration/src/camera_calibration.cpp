@@ -1,4 +1,4 @@
-#include "sl_decoder/calibration/camera_calibration.h"
+#include "sl_calibration/camera_calibration.h"
 
 #include <cmath>
 #include <fstream>
@@ -8,9 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 std::vector<cv::Point3f> Board::objectPoints() const
@@ -331,5 +329,4 @@ void saveCameraInfo(const sl_projector::PinholeModel& camera, const std::string&
     throw CalibrationError(path + ": write failed");
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

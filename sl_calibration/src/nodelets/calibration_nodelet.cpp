@@ -21,15 +21,14 @@
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
 
-#include "sl_decoder/calibration/full_calibration.h"
-#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_calibration/full_calibration.h"
+#include "sl_calibration/plane_calibration.h"
 #include "sl_params/params.h"
 
-namespace sl_decoder
+namespace sl_calibration
 {
 namespace
 {
-using namespace sl_decoder::calibration;
 
 /// Every parameter of the nodelet, read and validated in one place.
 struct CalibrationParams
@@ -158,7 +157,7 @@ private:
       if (p_.mode == "plane")
       {
         plane_.reset(new PlaneCalibration(p_.rig, p_.plane));
-        decoder_.reset(new Decoder(p_.rig, calibrationDecoderConfig(p_.epipolar_tolerance)));
+        decoder_.reset(new sl_decoder::Decoder(p_.rig, calibrationDecoderConfig(p_.epipolar_tolerance)));
       }
       else
       {
@@ -208,7 +207,7 @@ private:
     {
       bool converted = false;
       cv_bridge::CvImageConstPtr cv = cv_bridge::toCvShare(msg);
-      frames_.push_back(toMono8(cv->image, msg->encoding, converted).clone());
+      frames_.push_back(sl_decoder::toMono8(cv->image, msg->encoding, converted).clone());
       --wanted_;
     }
     catch (const std::exception& e)
@@ -219,8 +218,9 @@ private:
     image_cv_.notify_all();
   }
 
-  /// Waits for @p n images stamped after now. @return false on timeout (message in @p error).
-  bool grab(int n, std::vector<cv::Mat>& frames, std::string& error)
+  /// Waits for @p n images stamped after now. @return false on timeout or images of the wrong size
+  /// (@p res then fails with the message).
+  bool grab(int n, std::vector<cv::Mat>& frames, std_srvs::Trigger::Response& res)
   {
     std::unique_lock<std::mutex> lock(image_mutex_);
     frames_.clear();
@@ -233,15 +233,18 @@ private:
     frames_.clear();
     if (!ok)
     {
-      error = "timed out after " + std::to_string(p_.capture_timeout) + " s waiting for " + std::to_string(n) +
-              " image(s) on " + image_sub_.getTopic() + " (got " + std::to_string(frames.size()) + ")";
+      res.success = false;
+      res.message = "timed out after " + std::to_string(p_.capture_timeout) + " s waiting for " + std::to_string(n) +
+                    " image(s) on " + image_sub_.getTopic() + " (got " + std::to_string(frames.size()) + ")";
       return false;
     }
     for (const cv::Mat& f : frames)
       if (f.cols != p_.rig.camera.width || f.rows != p_.rig.camera.height)
       {
-        error = "the images are " + std::to_string(f.cols) + " x " + std::to_string(f.rows) + " px, the rig's camera " +
-                std::to_string(p_.rig.camera.width) + " x " + std::to_string(p_.rig.camera.height);
+        res.success = false;
+        res.message = "the images are " + std::to_string(f.cols) + " x " + std::to_string(f.rows) +
+                      " px, the rig's camera " + std::to_string(p_.rig.camera.width) + " x " +
+                      std::to_string(p_.rig.camera.height);
         return false;
       }
     return true;
@@ -336,16 +339,13 @@ private:
       return true;
     }
     std::vector<cv::Mat> frames;
-    std::string error;
-    if (!grab(p_.frames_per_capture, frames, error))
+    if (!grab(p_.frames_per_capture, frames, res))
     {
-      res.success = false;
-      res.message = error;
-      NODELET_ERROR("capture: %s", error.c_str());
+      NODELET_ERROR("capture: %s", res.message.c_str());
       return true;
     }
     int total = 0, least = 1 << 30;
-    DecodeResult result;
+    sl_decoder::DecodeResult result;
     for (size_t i = 0; i < frames.size(); ++i)
     {
       decoder_->decode(frames[i], result);
@@ -379,13 +379,8 @@ private:
   {
     std::lock_guard<std::mutex> lock(work_mutex_);
     std::vector<cv::Mat> frames;
-    std::string error;
-    if (!grab(1, frames, error))
-    {
-      res.success = false;
-      res.message = error;
+    if (!grab(1, frames, res))
       return true;
-    }
     std::vector<cv::Point2f> corners;
     if (!findBoardCorners(frames[0], p_.board, corners))
     {
@@ -417,13 +412,8 @@ private:
       return true;
     }
     std::vector<cv::Mat> frames;
-    std::string error;
-    if (!grab(1, frames, error))
-    {
-      res.success = false;
-      res.message = error;
+    if (!grab(1, frames, res))
       return true;
-    }
     try
     {
       const std::string name = "pose " + std::to_string(full_->planeViews() + 1);
@@ -518,7 +508,7 @@ private:
   CalibrationParams p_;
   std::unique_ptr<PlaneCalibration> plane_;
   std::unique_ptr<FullCalibration> full_;
-  std::unique_ptr<Decoder> decoder_;
+  std::unique_ptr<sl_decoder::Decoder> decoder_;
   std::string service_prefix_;
 
   std::mutex work_mutex_;  // captures and fits, one at a time
@@ -544,6 +534,6 @@ private:
   ros::ServiceServer capture_srv_, board_srv_, pattern_srv_, calibrate_srv_, reset_srv_;
 };
 
-}  // namespace sl_decoder
+}  // namespace sl_calibration
 
-PLUGINLIB_EXPORT_CLASS(sl_decoder::CalibrationNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(sl_calibration::CalibrationNodelet, nodelet::Nodelet)

@@ -7,12 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "sl_decoder/calibration/common.h"
+#include "sl_calibration/common.h"
 #include "sl_projector/rig.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /**
@@ -164,7 +162,7 @@ public:
   int addSamples(double distance, const std::vector<PrimitiveSample>& samples, const std::string& source = "");
 
   /// @brief Same as addSamples(distance, decodedSamples(result), source).
-  int addImage(double distance, const DecodeResult& result, const std::string& source = "");
+  int addImage(double distance, const sl_decoder::DecodeResult& result, const std::string& source = "");
 
   /// @brief Distinct distances so far, ascending, m.
   std::vector<double> distances() const;
@@ -177,6 +175,10 @@ public:
 
   /**
    * @brief Fits both models for every primitive seen at enough distances.
+   *
+   * In steps: the distances; per primitive its median image position and target depth at each, the
+   * rational model (leaving out one inconsistent distance if that fixes it; still inconsistent:
+   * rejected), the linear model on the same distances; the residual statistics per distance.
    * @throws CalibrationError with a clear message when there are fewer than min_distances distinct
    * distances, or no primitive was seen at enough of them.
    */
@@ -194,6 +196,12 @@ private:
     std::vector<std::vector<Eigen::Vector2d>> pixels;  // per primitive
   };
   int groupFor(double distance);
+  // The steps of fit(). Step 1: the groups in ascending order of distance, their summaries in @p res,
+  // the tables sized; throws for too few distances.
+  std::vector<size_t> startResult(PlaneCalibrationResult& res) const;
+  // Step 2: the primitive @p cell (row-major) at each distance of @p order: median image position and
+  // target depth; @p seen_at gets the distances where it has both.
+  PrimitiveFit observe(size_t cell, const std::vector<size_t>& order, std::vector<size_t>& seen_at) const;
 
   sl_projector::Rig rig_;
   PlaneCalibrationOptions options_;
@@ -204,5 +212,4 @@ private:
 /// @brief @p rig with the tables of @p result (distances, linear and rational).
 sl_projector::Rig withTables(const sl_projector::Rig& rig, const PlaneCalibrationResult& result);
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

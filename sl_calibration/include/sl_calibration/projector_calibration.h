@@ -9,13 +9,11 @@
 
 #include <Eigen/Core>
 
-#include "sl_decoder/calibration/common.h"
+#include "sl_calibration/common.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/rig.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /// @brief One 3D-2D correspondence of the projector.
@@ -91,5 +89,4 @@ std::vector<Eigen::Vector2d> projectorResiduals(const std::vector<ProjectorCorre
                                                 const sl_projector::PinholeModel& projector,
                                                 const sl_projector::RigidTransform& pose);
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

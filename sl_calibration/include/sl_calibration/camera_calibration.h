@@ -8,12 +8,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "sl_decoder/calibration/common.h"
+#include "sl_calibration/common.h"
 #include "sl_projector/rig.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /**
@@ -99,5 +97,4 @@ std::string cameraInfoYaml(const sl_projector::PinholeModel& camera, const std::
 void saveCameraInfo(const sl_projector::PinholeModel& camera, const std::string& path,
                     const std::string& camera_name = "camera");
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

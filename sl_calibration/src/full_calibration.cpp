@@ -1,14 +1,12 @@
-#include "sl_decoder/calibration/full_calibration.h"
+#include "sl_calibration/full_calibration.h"
 
 #include <cmath>
 #include <map>
 #include <sstream>
 
-#include "sl_decoder/calibration/optimizer.h"
+#include "sl_calibration/optimizer.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 FullCalibration::FullCalibration(const sl_projector::Rig& rig, const Board& board,
@@ -18,7 +16,7 @@ FullCalibration::FullCalibration(const sl_projector::Rig& rig, const Board& boar
   board_.validate();
   options_.distance_planes.validate();
   rig_.validate();
-  decoder_.reset(new Decoder(rig_, calibrationDecoderConfig(options_.epipolar_tolerance)));
+  decoder_.reset(new sl_decoder::Decoder(rig_, calibrationDecoderConfig(options_.epipolar_tolerance)));
 }
 
 FullCalibration::~FullCalibration() = default;
@@ -45,7 +43,7 @@ void FullCalibration::checkImage(const std::string& name, const cv::Mat& grey) c
                            std::to_string(rig_.camera.height));
 }
 
-void FullCalibration::addCameraView(const std::string& name, const cv::Mat& grey)
+std::vector<cv::Point2f> FullCalibration::findCorners(const std::string& name, const cv::Mat& grey) const
 {
   checkImage(name, grey);
   std::vector<cv::Point2f> corners;
@@ -53,7 +51,20 @@ void FullCalibration::addCameraView(const std::string& name, const cv::Mat& grey
     throw CalibrationError(name + ": checkerboard of " + std::to_string(board_.cols) + "x" +
                            std::to_string(board_.rows) +
                            " inner corners not found (the whole board must be visible, lit, and in focus)");
-  addCameraCorners(name, corners);
+  return corners;
+}
+
+void FullCalibration::checkSamples(const std::string& name, const std::vector<PrimitiveSample>& samples) const
+{
+  if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
+    throw CalibrationError(name + ": only " + std::to_string(samples.size()) + " pattern primitives decoded (need " +
+                           std::to_string(options_.projector.min_points_per_view) +
+                           "): is the projector on and the pattern on the plane?");
+}
+
+void FullCalibration::addCameraView(const std::string& name, const cv::Mat& grey)
+{
+  addCameraCorners(name, findCorners(name, grey));
 }
 
 void FullCalibration::addCameraCorners(const std::string& name, const std::vector<cv::Point2f>& corners)
@@ -81,18 +92,9 @@ std::vector<PrimitiveSample> FullCalibration::decode(const std::string& name, co
 void FullCalibration::addPlaneView(const std::string& board_name, const cv::Mat& board_grey,
                                    const std::string& pattern_name, const cv::Mat& pattern_grey)
 {
-  checkImage(board_name, board_grey);
-  std::vector<cv::Point2f> corners;
-  if (!findBoardCorners(board_grey, board_, corners))
-    throw CalibrationError(board_name + ": checkerboard of " + std::to_string(board_.cols) + "x" +
-                           std::to_string(board_.rows) +
-                           " inner corners not found (the whole board must be visible, lit, and in focus)");
+  const std::vector<cv::Point2f> corners = findCorners(board_name, board_grey);
   const std::vector<PrimitiveSample> samples = decode(pattern_name, pattern_grey);
-  if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
-    throw CalibrationError(pattern_name + ": only " + std::to_string(samples.size()) +
-                           " pattern primitives decoded (need " +
-                           std::to_string(options_.projector.min_points_per_view) +
-                           "): is the projector on and the pattern on the plane?");
+  checkSamples(pattern_name, samples);
   addPlaneSamples(board_name + " + " + pattern_name, corners, samples);
 }
 
@@ -105,10 +107,7 @@ void FullCalibration::addDistanceView(const std::string& pattern_name, const cv:
 void FullCalibration::addPlaneSamples(const std::string& name, const std::vector<cv::Point2f>& corners,
                                       const std::vector<PrimitiveSample>& samples)
 {
-  if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
-    throw CalibrationError(name + ": only " + std::to_string(samples.size()) + " pattern primitives decoded (need " +
-                           std::to_string(options_.projector.min_points_per_view) +
-                           "): is the projector on and the pattern on the plane?");
+  checkSamples(name, samples);
   addCameraCorners(name, corners);
   PlaneView v;
   v.name = name;
@@ -123,10 +122,7 @@ void FullCalibration::addDistanceSamples(const std::string& name, double distanc
   if (!std::isfinite(distance) || distance <= 0.0 || distance > 20.0)
     throw CalibrationError(name + ": the plane distance must be a positive number of metres, got " +
                            std::to_string(distance));
-  if (static_cast<int>(samples.size()) < options_.projector.min_points_per_view)
-    throw CalibrationError(name + ": only " + std::to_string(samples.size()) + " pattern primitives decoded (need " +
-                           std::to_string(options_.projector.min_points_per_view) +
-                           "): is the projector on and the pattern on the plane?");
+  checkSamples(name, samples);
   PlaneView v;
   v.name = name;
   v.distance = distance;
@@ -241,20 +237,106 @@ void jointResiduals(const Eigen::VectorXd& p, const std::vector<BoardView>& boar
     r(k++) = e.y();
   }
 }
+
+/// The starting point of the joint refinement: the separate fits.
+Eigen::VectorXd initialParameters(const sl_projector::PinholeModel& camera, const ProjectorCalibrationResult& projector,
+                                  const std::vector<sl_projector::RigidTransform>& board_poses)
+{
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(kBoards + 6 * static_cast<long>(board_poses.size()));
+  getModel(camera, kCam, p);
+  getModel(projector.projector, kProj, p);
+  const sl_projector::RigidTransform inv = projector.pose.inverse();
+  p.segment<3>(kPose) = vectorOf(inv.rotation);
+  p.segment<3>(kPose + 3) = inv.translation;
+  for (size_t j = 0; j < board_poses.size(); ++j)
+  {
+    p.segment<3>(kBoards + 6 * static_cast<long>(j)) = vectorOf(board_poses[j].rotation);
+    p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3) = board_poses[j].translation;
+  }
+  return p;
+}
+
+/// Which of the @p n parameters the joint refinement may change: not a given camera, nor the
+/// distortion terms the options fix.
+std::vector<bool> freeParameters(long n, bool camera_given, const FullCalibrationOptions& options)
+{
+  std::vector<bool> free(static_cast<size_t>(n), true);
+  for (int i = 0; i < 9; ++i)
+    free[static_cast<size_t>(kCam + i)] = !camera_given;
+  free[kCam + 8] = free[kCam + 8] && !options.camera.fix_k3;
+  if (options.camera.zero_tangential)
+    free[kCam + 6] = free[kCam + 7] = false;
+  free[kProj + 8] = !options.projector.fix_k3;
+  if (options.projector.zero_tangential)
+    free[kProj + 6] = free[kProj + 7] = false;
+  return free;
+}
+
+/// Takes the refined parameters @p p, whose residuals are @p r (board views of @p corners corners
+/// each, then @p prims), into @p out and @p board_poses, with the reprojection errors per view and
+/// overall.
+void applyRefinement(const Eigen::VectorXd& p, const Eigen::VectorXd& r, const std::vector<JointPrimitive>& prims,
+                     size_t corners, std::vector<sl_projector::RigidTransform>& board_poses, FullCalibrationResult& out)
+{
+  setModel(p, kCam, out.camera.camera);
+  setModel(p, kProj, out.projector.projector);
+  sl_projector::RigidTransform pf;
+  pf.rotation = rotationOf(p.segment<3>(kPose));
+  pf.translation = p.segment<3>(kPose + 3);
+  out.projector.pose = pf.inverse();
+  long k = 0;
+  double all = 0.0;
+  for (size_t j = 0; j < board_poses.size(); ++j)
+  {
+    board_poses[j].rotation = rotationOf(p.segment<3>(kBoards + 6 * static_cast<long>(j)));
+    board_poses[j].translation = p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3);
+    double s2 = 0.0;
+    for (size_t i = 0; i < corners; ++i, k += 2)
+      s2 += r(k) * r(k) + r(k + 1) * r(k + 1);
+    all += s2;
+    out.camera.view_rms[j] = std::sqrt(s2 / corners);
+  }
+  out.camera.rms = std::sqrt(all / std::max<size_t>(1, board_poses.size() * corners));
+  out.camera.board_poses = board_poses;
+  std::map<int, std::pair<double, int>> acc;
+  double sp = 0.0;
+  for (const JointPrimitive& q : prims)
+  {
+    const double e2 = r(k) * r(k) + r(k + 1) * r(k + 1);
+    k += 2;
+    sp += e2;
+    acc[q.view].first += e2;
+    ++acc[q.view].second;
+  }
+  out.projector.rms = std::sqrt(sp / std::max<size_t>(1, prims.size()));
+  for (const auto& a : acc)
+    out.projector.view_rms[static_cast<size_t>(a.first)] = std::sqrt(a.second.first / a.second.second);
+  out.refined = true;
+}
+
+/// @p rig with the calibrated camera, projector and projector pose of @p out.
+sl_projector::Rig calibratedRig(sl_projector::Rig rig, const FullCalibrationResult& out)
+{
+  rig.camera = out.camera.camera;
+  rig.projector = out.projector.projector;
+  rig.projector_pose = out.projector.pose;
+  try
+  {
+    rig.validate();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw CalibrationError(std::string("the calibrated rig is not valid: ") + e.what());
+  }
+  return rig;
+}
 }  // namespace
 
-FullCalibrationResult FullCalibration::calibrate() const
+std::vector<sl_projector::RigidTransform> FullCalibration::calibrateCameraStep(FullCalibrationResult& out) const
 {
-  FullCalibrationResult out;
-  if (static_cast<int>(plane_views_.size()) < options_.projector.min_views)
-    throw CalibrationError("full calibration needs >= " + std::to_string(options_.projector.min_views) +
-                           " plane poses with the pattern (board + pattern image, or pattern image at a known "
-                           "distance), got " +
-                           std::to_string(plane_views_.size()));
-  // 1. Camera.
-  std::vector<sl_projector::RigidTransform> board_poses(board_views_.size());
   if (camera_given_)
   {
+    std::vector<sl_projector::RigidTransform> board_poses(board_views_.size());
     out.camera.camera = camera_;
     for (size_t i = 0; i < board_views_.size(); ++i)
     {
@@ -264,26 +346,23 @@ FullCalibrationResult FullCalibration::calibrate() const
       out.camera_views.push_back(board_views_[i].name);
     }
     out.camera.board_poses = board_poses;
+    return board_poses;
   }
-  else
-  {
-    if (static_cast<int>(board_views_.size()) < options_.camera.min_views)
-      throw CalibrationError("camera calibration needs >= " + std::to_string(options_.camera.min_views) +
-                             " checkerboard views at different orientations, got " +
-                             std::to_string(board_views_.size()) +
-                             " (or give the camera model, e.g. from ROS camera_calibration)");
-    out.camera =
-        calibrateCamera(board_views_, board_, cv::Size(rig_.camera.width, rig_.camera.height), options_.camera);
-    out.camera_calibrated = true;
-    board_poses = out.camera.board_poses;
-    for (const BoardView& v : board_views_)
-      out.camera_views.push_back(v.name);
-  }
-  const sl_projector::PinholeModel& camera = out.camera.camera;
+  if (static_cast<int>(board_views_.size()) < options_.camera.min_views)
+    throw CalibrationError("camera calibration needs >= " + std::to_string(options_.camera.min_views) +
+                           " checkerboard views at different orientations, got " + std::to_string(board_views_.size()) +
+                           " (or give the camera model, e.g. from ROS camera_calibration)");
+  out.camera = calibrateCamera(board_views_, board_, cv::Size(rig_.camera.width, rig_.camera.height), options_.camera);
+  out.camera_calibrated = true;
+  for (const BoardView& v : board_views_)
+    out.camera_views.push_back(v.name);
+  return out.camera.board_poses;
+}
 
-  // 2. Planes in the camera frame, 3. projector correspondences.
-  sl_projector::Rig rig = rig_;
-  rig.camera = camera;
+std::vector<ProjectorCorrespondence> FullCalibration::planeCorrespondences(
+    const sl_projector::Rig& rig, const std::vector<sl_projector::RigidTransform>& board_poses,
+    FullCalibrationResult& out) const
+{
   const sl_projector::Pattern pattern(rig.pattern);
   std::vector<ProjectorCorrespondence> corr;
   for (size_t i = 0; i < plane_views_.size(); ++i)
@@ -304,110 +383,69 @@ FullCalibrationResult FullCalibration::calibrate() const
       }
     }
     const std::vector<ProjectorCorrespondence> c =
-        projectorCorrespondences(pattern, camera, plane, v.samples, static_cast<int>(i));
+        projectorCorrespondences(pattern, rig.camera, plane, v.samples, static_cast<int>(i));
     corr.insert(corr.end(), c.begin(), c.end());
     out.plane_views.push_back(v.name);
   }
-  out.projector = calibrateProjector(corr, rig.projector.width, rig.projector.height, options_.projector);
+  return corr;
+}
 
-  if (options_.joint_refinement)
+void FullCalibration::refineJointly(const sl_projector::Rig& rig, const std::vector<ProjectorCorrespondence>& corr,
+                                    std::vector<sl_projector::RigidTransform>& board_poses,
+                                    FullCalibrationResult& out) const
+{
+  // The inliers of the projector fit, each on its plane: a board view's (refined with it) or a fixed one.
+  std::vector<JointPrimitive> prims;
+  for (size_t i = 0; i < corr.size(); ++i)
   {
-    // 4. Everything together, from the separate fits, on the inliers of the projector fit.
-    std::vector<JointPrimitive> prims;
-    for (size_t i = 0; i < corr.size(); ++i)
-    {
-      if (!out.projector.inlier[i])
-        continue;
-      const PlaneView& v = plane_views_[static_cast<size_t>(corr[i].view)];
-      JointPrimitive q;
-      q.board = v.board_view;
-      if (v.board_view < 0)
-        q.plane = planeAtDistance(rig, v.distance, options_.distance_planes);
-      q.pixel = corr[i].pixel;
-      q.projector = corr[i].projector;
-      q.view = corr[i].view;
-      prims.push_back(q);
-    }
-    const long n = kBoards + 6 * static_cast<long>(board_views_.size());
-    Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
-    getModel(camera, kCam, p);
-    getModel(out.projector.projector, kProj, p);
-    const sl_projector::RigidTransform inv = out.projector.pose.inverse();
-    p.segment<3>(kPose) = vectorOf(inv.rotation);
-    p.segment<3>(kPose + 3) = inv.translation;
-    for (size_t j = 0; j < board_views_.size(); ++j)
-    {
-      p.segment<3>(kBoards + 6 * static_cast<long>(j)) = vectorOf(board_poses[j].rotation);
-      p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3) = board_poses[j].translation;
-    }
-    std::vector<bool> free(static_cast<size_t>(n), true);
-    for (int i = 0; i < 9; ++i)
-      free[static_cast<size_t>(kCam + i)] = !camera_given_;
-    free[kCam + 8] = free[kCam + 8] && !options_.camera.fix_k3;
-    if (options_.camera.zero_tangential)
-      free[kCam + 6] = free[kCam + 7] = false;
-    free[kProj + 8] = !options_.projector.fix_k3;
-    if (options_.projector.zero_tangential)
-      free[kProj + 6] = free[kProj + 7] = false;
-    const std::vector<cv::Point3f> object = board_.objectPoints();
-    LevenbergMarquardt lm;
-    lm.max_iterations = options_.max_iterations;
-    lm.minimize([&](const Eigen::VectorXd& q, Eigen::VectorXd& r)
-                { jointResiduals(q, board_views_, object, prims, camera, out.projector.projector, r); },
-                free, p);
-    if (p.allFinite() && p(kCam) > 0.0 && p(kCam + 1) > 0.0 && p(kProj) > 0.0 && p(kProj + 1) > 0.0)
-    {
-      Eigen::VectorXd r;
-      jointResiduals(p, board_views_, object, prims, camera, out.projector.projector, r);
-      setModel(p, kCam, out.camera.camera);
-      setModel(p, kProj, out.projector.projector);
-      sl_projector::RigidTransform pf;
-      pf.rotation = rotationOf(p.segment<3>(kPose));
-      pf.translation = p.segment<3>(kPose + 3);
-      out.projector.pose = pf.inverse();
-      long k = 0;
-      double all = 0.0;
-      for (size_t j = 0; j < board_views_.size(); ++j)
-      {
-        board_poses[j].rotation = rotationOf(p.segment<3>(kBoards + 6 * static_cast<long>(j)));
-        board_poses[j].translation = p.segment<3>(kBoards + 6 * static_cast<long>(j) + 3);
-        double s2 = 0.0;
-        for (size_t i = 0; i < object.size(); ++i, k += 2)
-          s2 += r(k) * r(k) + r(k + 1) * r(k + 1);
-        all += s2;
-        out.camera.view_rms[j] = std::sqrt(s2 / object.size());
-      }
-      out.camera.rms = std::sqrt(all / std::max<size_t>(1, board_views_.size() * object.size()));
-      out.camera.board_poses = board_poses;
-      std::map<int, std::pair<double, int>> acc;
-      double sp = 0.0;
-      for (const JointPrimitive& q : prims)
-      {
-        const double e2 = r(k) * r(k) + r(k + 1) * r(k + 1);
-        k += 2;
-        sp += e2;
-        acc[q.view].first += e2;
-        ++acc[q.view].second;
-      }
-      out.projector.rms = std::sqrt(sp / std::max<size_t>(1, prims.size()));
-      for (const auto& a : acc)
-        out.projector.view_rms[static_cast<size_t>(a.first)] = std::sqrt(a.second.first / a.second.second);
-      out.refined = true;
-    }
+    if (!out.projector.inlier[i])
+      continue;
+    const PlaneView& v = plane_views_[static_cast<size_t>(corr[i].view)];
+    JointPrimitive q;
+    q.board = v.board_view;
+    if (v.board_view < 0)
+      q.plane = planeAtDistance(rig, v.distance, options_.distance_planes);
+    q.pixel = corr[i].pixel;
+    q.projector = corr[i].projector;
+    q.view = corr[i].view;
+    prims.push_back(q);
   }
+  Eigen::VectorXd p = initialParameters(rig.camera, out.projector, board_poses);
+  const std::vector<bool> free = freeParameters(p.size(), camera_given_, options_);
+  const std::vector<cv::Point3f> object = board_.objectPoints();
+  const sl_projector::PinholeModel projector = out.projector.projector;
+  LevenbergMarquardt lm;
+  lm.max_iterations = options_.max_iterations;
+  lm.minimize([&](const Eigen::VectorXd& q, Eigen::VectorXd& r)
+              { jointResiduals(q, board_views_, object, prims, rig.camera, projector, r); },
+              free, p);
+  if (!(p.allFinite() && p(kCam) > 0.0 && p(kCam + 1) > 0.0 && p(kProj) > 0.0 && p(kProj + 1) > 0.0))
+    return;  // the separate fits stand
+  Eigen::VectorXd r;
+  jointResiduals(p, board_views_, object, prims, rig.camera, projector, r);
+  applyRefinement(p, r, prims, object.size(), board_poses, out);
+}
 
+FullCalibrationResult FullCalibration::calibrate() const
+{
+  if (static_cast<int>(plane_views_.size()) < options_.projector.min_views)
+    throw CalibrationError("full calibration needs >= " + std::to_string(options_.projector.min_views) +
+                           " plane poses with the pattern (board + pattern image, or pattern image at a known "
+                           "distance), got " +
+                           std::to_string(plane_views_.size()));
+  FullCalibrationResult out;
+  // 1. Camera.
+  std::vector<sl_projector::RigidTransform> board_poses = calibrateCameraStep(out);
+  // 2. Planes in the camera frame, 3. projector correspondences and the projector.
+  sl_projector::Rig rig = rig_;
   rig.camera = out.camera.camera;
-  rig.projector = out.projector.projector;
-  rig.projector_pose = out.projector.pose;
-  try
-  {
-    rig.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    throw CalibrationError(std::string("the calibrated rig is not valid: ") + e.what());
-  }
-  out.rig = rig;
+  const std::vector<ProjectorCorrespondence> corr = planeCorrespondences(rig, board_poses, out);
+  out.projector = calibrateProjector(corr, rig.projector.width, rig.projector.height, options_.projector);
+  // 4. Everything together, from the separate fits.
+  if (options_.joint_refinement)
+    refineJointly(rig, corr, board_poses, out);
+  // 5. The rig with the calibrated models and pose.
+  out.rig = calibratedRig(rig, out);
   return out;
 }
 
@@ -482,5 +520,4 @@ std::string RigComparison::summary() const
   return o.str();
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

@@ -1,13 +1,11 @@
-#include "sl_decoder/calibration/optimizer.h"
+#include "sl_calibration/optimizer.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <Eigen/Dense>
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 double LevenbergMarquardt::minimize(const Residuals& residuals, const std::vector<bool>& free, Eigen::VectorXd& params)
@@ -76,5 +74,4 @@ double LevenbergMarquardt::minimize(const Residuals& residuals, const std::vecto
   return cost;
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

@@ -10,14 +10,12 @@
 
 #include <opencv2/core.hpp>
 
-#include "sl_decoder/calibration/camera_calibration.h"
-#include "sl_decoder/calibration/plane_calibration.h"
-#include "sl_decoder/calibration/projector_calibration.h"
+#include "sl_calibration/camera_calibration.h"
+#include "sl_calibration/plane_calibration.h"
+#include "sl_calibration/projector_calibration.h"
 #include "sl_decoder/decoder.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /// @brief Options of the full calibration.
@@ -131,6 +129,22 @@ private:
     std::vector<PrimitiveSample> samples;
   };
   void checkImage(const std::string& name, const cv::Mat& grey) const;
+  // The checkerboard's corners in the image @p name. Throws if it is not found.
+  std::vector<cv::Point2f> findCorners(const std::string& name, const cv::Mat& grey) const;
+  // Throws if too few primitives of the pattern image @p name were decoded.
+  void checkSamples(const std::string& name, const std::vector<PrimitiveSample>& samples) const;
+
+  // The steps of calibrate(). 1: the camera (calibrated from the board views, or the one given)
+  // and the board poses.
+  std::vector<sl_projector::RigidTransform> calibrateCameraStep(FullCalibrationResult& out) const;
+  // 2, 3: each plane view's plane in the camera frame (its board's pose, or the known distance) and
+  // its projector correspondences.
+  std::vector<ProjectorCorrespondence> planeCorrespondences(
+      const sl_projector::Rig& rig, const std::vector<sl_projector::RigidTransform>& board_poses,
+      FullCalibrationResult& out) const;
+  // 4: the joint refinement on the projector fit's inliers; keeps the separate fits if it diverges.
+  void refineJointly(const sl_projector::Rig& rig, const std::vector<ProjectorCorrespondence>& corr,
+                     std::vector<sl_projector::RigidTransform>& board_poses, FullCalibrationResult& out) const;
 
   sl_projector::Rig rig_;
   Board board_;
@@ -139,8 +153,8 @@ private:
   sl_projector::PinholeModel camera_;
   std::vector<BoardView> board_views_;
   std::vector<PlaneView> plane_views_;
-  std::unique_ptr<Decoder> decoder_;
-  DecodeResult decoded_;
+  std::unique_ptr<sl_decoder::Decoder> decoder_;
+  sl_decoder::DecodeResult decoded_;
 };
 
 /// @brief Differences between a calibrated rig and a reference (e.g. the simulator's true rig).
@@ -161,5 +175,4 @@ struct RigComparison
 /// @brief Compares @p calibrated with @p reference.
 RigComparison compareRigs(const sl_projector::Rig& calibrated, const sl_projector::Rig& reference);
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

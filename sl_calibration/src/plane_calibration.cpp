@@ -1,4 +1,4 @@
-#include "sl_decoder/calibration/plane_calibration.h"
+#include "sl_calibration/plane_calibration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,7 @@
 
 #include <Eigen/Dense>
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 namespace
@@ -139,39 +137,39 @@ sl_projector::DepthModel fitLinear(const std::vector<double>& u, const std::vect
   return m;
 }
 
-sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::vector<double>& depth)
+namespace
 {
-  sl_projector::DepthModel m;
-  const size_t n = u.size();
-  if (n < 3 || depth.size() != n)
-    return m;
-  // Work in t = (u - centre) / scale, where the denominator stays far from its pole.
-  const auto range = std::minmax_element(u.begin(), u.end());
-  const double centre = 0.5 * (*range.first + *range.second);
-  const double scale = std::max(1.0, 0.5 * (*range.second - *range.first));
-  if (*range.second - *range.first < 1e-6)
-    return m;
-  std::vector<double> t(n);
-  for (size_t i = 0; i < n; ++i)
-    t[i] = (u[i] - centre) / scale;
+/// The rational model in t = (u - centre) / scale, where the denominator stays far from its pole:
+/// depth = (p0 + p1 t) / (1 + p2 t), fitted to the points (t, depth).
+struct RationalInT
+{
+  const std::vector<double>& t;
+  const std::vector<double>& depth;
 
-  // Algebraic solution: A + B t - C t z = z (exact for three points).
-  Eigen::MatrixXd M(n, 3);
-  Eigen::VectorXd rhs(n);
-  for (size_t i = 0; i < n; ++i)
+  /// The algebraic solution of p0 + p1 t - p2 t z = z (exact for three points); false if degenerate.
+  bool algebraic(Eigen::Vector3d& p) const
   {
-    M(static_cast<long>(i), 0) = 1.0;
-    M(static_cast<long>(i), 1) = t[i];
-    M(static_cast<long>(i), 2) = -t[i] * depth[i];
-    rhs(static_cast<long>(i)) = depth[i];
+    const size_t n = t.size();
+    Eigen::MatrixXd M(n, 3);
+    Eigen::VectorXd rhs(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      M(static_cast<long>(i), 0) = 1.0;
+      M(static_cast<long>(i), 1) = t[i];
+      M(static_cast<long>(i), 2) = -t[i] * depth[i];
+      rhs(static_cast<long>(i)) = depth[i];
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(M);
+    if (qr.rank() < 3)
+      return false;
+    p = qr.solve(rhs);
+    return true;
   }
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(M);
-  if (qr.rank() < 3)
-    return m;
-  Eigen::Vector3d p = qr.solve(rhs);
 
-  auto residuals = [&](const Eigen::Vector3d& q, Eigen::VectorXd& r)
+  /// The residuals model - depth of @p q in @p r; returns their squared norm.
+  double residuals(const Eigen::Vector3d& q, Eigen::VectorXd& r) const
   {
+    const size_t n = t.size();
     r.resize(static_cast<long>(n));
     for (size_t i = 0; i < n; ++i)
     {
@@ -179,20 +177,16 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
       r(static_cast<long>(i)) = (q(0) + q(1) * t[i]) / den - depth[i];
     }
     return r.squaredNorm();
-  };
-  auto poleFree = [&](const Eigen::Vector3d& q)
-  {
-    // The denominator is linear in t: positive at both ends means positive over the whole range.
-    return 1.0 + q(2) * -1.0 > 1e-3 && 1.0 + q(2) * 1.0 > 1e-3;
-  };
-  if (!poleFree(p) || !p.allFinite())
-    return m;
+  }
 
-  // Gauss-Newton (with step halving) on the depth residual when over-determined.
-  Eigen::VectorXd r;
-  double cost = residuals(p, r);
-  if (n > 3)
+  /// The denominator is linear in t: positive at both ends means positive over the whole range.
+  static bool poleFree(const Eigen::Vector3d& q) { return 1.0 + q(2) * -1.0 > 1e-3 && 1.0 + q(2) * 1.0 > 1e-3; }
+
+  /// Gauss-Newton with step halving on the depth residual, from @p p whose residuals are @p r and
+  /// cost @p cost (all three updated).
+  void refine(Eigen::Vector3d& p, Eigen::VectorXd& r, double& cost) const
   {
+    const size_t n = t.size();
     for (int it = 0; it < 20; ++it)
     {
       Eigen::MatrixXd J(n, 3);
@@ -227,6 +221,34 @@ sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::ve
         break;
     }
   }
+};
+}  // namespace
+
+sl_projector::DepthModel fitRational(const std::vector<double>& u, const std::vector<double>& depth)
+{
+  sl_projector::DepthModel m;
+  const size_t n = u.size();
+  if (n < 3 || depth.size() != n)
+    return m;
+  // Work in t = (u - centre) / scale, where the denominator stays far from its pole.
+  const auto range = std::minmax_element(u.begin(), u.end());
+  const double centre = 0.5 * (*range.first + *range.second);
+  const double scale = std::max(1.0, 0.5 * (*range.second - *range.first));
+  if (*range.second - *range.first < 1e-6)
+    return m;
+  std::vector<double> t(n);
+  for (size_t i = 0; i < n; ++i)
+    t[i] = (u[i] - centre) / scale;
+
+  // The algebraic solution, then (when over-determined) least squares on the depth residual.
+  const RationalInT model{ t, depth };
+  Eigen::Vector3d p;
+  if (!model.algebraic(p) || !RationalInT::poleFree(p) || !p.allFinite())
+    return m;
+  Eigen::VectorXd r;
+  double cost = model.residuals(p, r);
+  if (n > 3)
+    model.refine(p, r, cost);
 
   // Back to the image column: z = ((A s - B c) + B u) / ((s - C c) + C u), normalised to 1 + c u.
   const double num0 = p(0) * scale - p(1) * centre;
@@ -300,7 +322,7 @@ int PlaneCalibration::addSamples(double distance, const std::vector<PrimitiveSam
   return added;
 }
 
-int PlaneCalibration::addImage(double distance, const DecodeResult& result, const std::string& source)
+int PlaneCalibration::addImage(double distance, const sl_decoder::DecodeResult& result, const std::string& source)
 {
   return addSamples(distance, decodedSamples(result), source);
 }
@@ -320,20 +342,125 @@ void PlaneCalibration::clear()
   images_ = 0;
 }
 
-PlaneCalibrationResult PlaneCalibration::fit() const
+namespace
 {
-  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
-  const size_t cells = static_cast<size_t>(rows * cols);
-  if (groups_.empty())
-    throw CalibrationError("plane calibration: no images were added");
+/// The distances of a calibration for messages: "0.700 m (2 images, 828 primitives), ...".
+std::string listDistances(const std::vector<DistanceSummary>& distances)
+{
+  std::string out;
+  for (const DistanceSummary& s : distances)
+    out += (out.empty() ? "" : ", ") + fixed(s.distance, 3) + " m (" + std::to_string(s.images) + " image" +
+           (s.images == 1 ? "" : "s") + ", " + std::to_string(s.primitives) + " primitives)";
+  return out;
+}
 
-  // Distances ascending.
+/// The residuals of the calibrated primitives (model - target, m), per distance and overall.
+struct Residuals
+{
+  explicit Residuals(size_t distances) : linear(distances), rational(distances) {}
+  std::vector<std::vector<double>> linear, rational;  // per distance
+  std::vector<double> all_linear, all_rational;
+};
+
+/**
+ * The rational fit of primitive @p f on the distances @p seen_at (indices into f.u, f.depth). When
+ * it is invalid or leaves more than max_rational_rms and there are more distances than needed, one
+ * inconsistent distance (a wrong decode there) is left out if that fixes the fit. @p used gets the
+ * distances the returned model was fitted on.
+ */
+sl_projector::DepthModel fitRationalLeavingOneOut(const PrimitiveFit& f, const std::vector<size_t>& seen_at,
+                                                  const PlaneCalibrationOptions& options, std::vector<size_t>& used)
+{
+  std::vector<double> us, zs;
+  for (size_t k : seen_at)
+  {
+    us.push_back(f.u[k]);
+    zs.push_back(f.depth[k]);
+  }
+  sl_projector::DepthModel rat = fitRational(us, zs);
+  used = seen_at;
+  const bool inconsistent = !rat.valid || rat.rms > options.max_rational_rms;
+  if (!inconsistent || f.distances <= options.min_distances)
+    return rat;
+  for (size_t drop = 0; drop < us.size(); ++drop)
+  {
+    std::vector<double> u2, z2;
+    std::vector<size_t> i2;
+    for (size_t i = 0; i < us.size(); ++i)
+      if (i != drop)
+      {
+        u2.push_back(us[i]);
+        z2.push_back(zs[i]);
+        i2.push_back(seen_at[i]);
+      }
+    const sl_projector::DepthModel r2 = fitRational(u2, z2);
+    if (r2.valid && (!rat.valid || r2.rms < rat.rms))
+    {
+      rat = r2;
+      used = i2;
+    }
+  }
+  return rat;
+}
+
+/// Both models of primitive @p f on the distances @p used (the rational one already fitted), and
+/// their residuals there, also collected in @p residuals.
+void fitModels(PrimitiveFit& f, const sl_projector::DepthModel& rational, const std::vector<size_t>& used,
+               Residuals& residuals)
+{
+  std::vector<double> lu, lz;
+  for (size_t k : used)
+  {
+    lu.push_back(f.u[k]);
+    lz.push_back(f.depth[k]);
+  }
+  f.linear = fitLinear(lu, lz);
+  f.rational = rational;
+  for (size_t k : used)
+  {
+    f.linear_residual[k] = f.linear.depth(f.u[k]) - f.depth[k];
+    f.rational_residual[k] = f.rational.depth(f.u[k]) - f.depth[k];
+    residuals.linear[k].push_back(f.linear_residual[k]);
+    residuals.rational[k].push_back(f.rational_residual[k]);
+    residuals.all_linear.push_back(f.linear_residual[k]);
+    residuals.all_rational.push_back(f.rational_residual[k]);
+  }
+}
+
+/// The residual statistics of @p res: per distance and overall.
+void summariseResiduals(const Residuals& residuals, PlaneCalibrationResult& res)
+{
+  for (size_t k = 0; k < res.distances.size(); ++k)
+  {
+    DistanceSummary& s = res.distances[k];
+    s.calibrated = static_cast<int>(residuals.linear[k].size());
+    s.linear_rms = rmsOf(residuals.linear[k]);
+    s.rational_rms = rmsOf(residuals.rational[k]);
+    for (double x : residuals.linear[k])
+      s.linear_max = std::max(s.linear_max, std::abs(x));
+    for (double x : residuals.rational[k])
+      s.rational_max = std::max(s.rational_max, std::abs(x));
+  }
+  res.linear_rms = rmsOf(residuals.all_linear);
+  res.rational_rms = rmsOf(residuals.all_rational);
+}
+
+/// Why no primitive of @p res could be calibrated.
+std::string whyNoneCalibrated(const PlaneCalibrationResult& res, int min_distances)
+{
+  if (res.seen == 0)
+    return "no primitive was decoded in any image";
+  return std::to_string(res.too_few) + " of the " + std::to_string(res.seen) +
+         " primitives seen were seen at fewer than " + std::to_string(min_distances) + " distances" +
+         (res.rejected ? ", " + std::to_string(res.rejected) + " had inconsistent fits" : std::string());
+}
+}  // namespace
+
+std::vector<size_t> PlaneCalibration::startResult(PlaneCalibrationResult& res) const
+{
   std::vector<size_t> order(groups_.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return groups_[a].distance < groups_[b].distance; });
-  const size_t nd = order.size();
-
-  PlaneCalibrationResult res;
   for (size_t k : order)
   {
     DistanceSummary s;
@@ -343,149 +470,92 @@ PlaneCalibrationResult PlaneCalibration::fit() const
       s.primitives += px.empty() ? 0 : 1;
     res.distances.push_back(s);
   }
-  auto listDistances = [&]()
-  {
-    std::string out;
-    for (const DistanceSummary& s : res.distances)
-      out += (out.empty() ? "" : ", ") + fixed(s.distance, 3) + " m (" + std::to_string(s.images) + " image" +
-             (s.images == 1 ? "" : "s") + ", " + std::to_string(s.primitives) + " primitives)";
-    return out;
-  };
-  if (static_cast<int>(nd) < options_.min_distances)
+  if (static_cast<int>(order.size()) < options_.min_distances)
     throw CalibrationError("plane calibration needs the plane at >= " + std::to_string(options_.min_distances) +
-                           " different distances, got " + std::to_string(nd) + ": " + listDistances());
-
+                           " different distances, got " + std::to_string(order.size()) + ": " +
+                           listDistances(res.distances));
+  const size_t cells = static_cast<size_t>(rig_.pattern.rows * rig_.pattern.cols);
   res.tables.distances.clear();
   for (const DistanceSummary& s : res.distances)
     res.tables.distances.push_back(s.distance);
   res.tables.linear.assign(cells, sl_projector::DepthModel());
   res.tables.rational.assign(cells, sl_projector::DepthModel());
+  return order;
+}
 
-  std::vector<std::vector<double>> lin_res(nd), rat_res(nd);
-  std::vector<double> all_lin, all_rat;
-  for (size_t p = 0; p < cells; ++p)
+PrimitiveFit PlaneCalibration::observe(size_t cell, const std::vector<size_t>& order,
+                                       std::vector<size_t>& seen_at) const
+{
+  const size_t nd = order.size();
+  PrimitiveFit f;
+  f.row = static_cast<int>(cell) / rig_.pattern.cols;
+  f.col = static_cast<int>(cell) % rig_.pattern.cols;
+  f.u.assign(nd, kNaN);
+  f.depth.assign(nd, kNaN);
+  f.linear_residual.assign(nd, kNaN);
+  f.rational_residual.assign(nd, kNaN);
+  seen_at.clear();
+  for (size_t k = 0; k < nd; ++k)
   {
-    PrimitiveFit f;
-    f.row = static_cast<int>(p) / cols;
-    f.col = static_cast<int>(p) % cols;
-    f.u.assign(nd, kNaN);
-    f.depth.assign(nd, kNaN);
-    f.linear_residual.assign(nd, kNaN);
-    f.rational_residual.assign(nd, kNaN);
-    std::vector<double> us, zs;
-    std::vector<size_t> idx;
-    for (size_t k = 0; k < nd; ++k)
+    const Group& g = groups_[order[k]];
+    const std::vector<Eigen::Vector2d>& px = g.pixels[cell];
+    if (px.empty())
+      continue;
+    std::vector<double> u, v;
+    for (const Eigen::Vector2d& q : px)
     {
-      const Group& g = groups_[order[k]];
-      const std::vector<Eigen::Vector2d>& px = g.pixels[p];
-      if (px.empty())
-        continue;
-      std::vector<double> u, v;
-      for (const Eigen::Vector2d& q : px)
-      {
-        u.push_back(q.x());
-        v.push_back(q.y());
-      }
-      const double mu = median(u), mv = median(v);
-      const double z = depthOnPlane(rig_.camera, g.plane, mu, mv);
-      if (!std::isfinite(z))
-        continue;
-      f.u[k] = mu;
-      f.depth[k] = z;
-      us.push_back(mu);
-      zs.push_back(z);
-      idx.push_back(k);
+      u.push_back(q.x());
+      v.push_back(q.y());
     }
-    f.distances = static_cast<int>(us.size());
+    const double mu = median(u), mv = median(v);
+    const double z = depthOnPlane(rig_.camera, g.plane, mu, mv);
+    if (!std::isfinite(z))
+      continue;
+    f.u[k] = mu;
+    f.depth[k] = z;
+    seen_at.push_back(k);
+  }
+  f.distances = static_cast<int>(seen_at.size());
+  return f;
+}
+
+PlaneCalibrationResult PlaneCalibration::fit() const
+{
+  if (groups_.empty())
+    throw CalibrationError("plane calibration: no images were added");
+  PlaneCalibrationResult res;
+  const std::vector<size_t> order = startResult(res);
+  Residuals residuals(order.size());
+  std::vector<size_t> seen_at, used;
+  for (size_t cell = 0; cell < res.tables.rational.size(); ++cell)
+  {
+    PrimitiveFit f = observe(cell, order, seen_at);
     if (f.distances == 0)
       continue;
     ++res.seen;
     if (f.distances < options_.min_distances)
-    {
       ++res.too_few;
-      res.primitives.push_back(std::move(f));
-      continue;
-    }
-    sl_projector::DepthModel rat = fitRational(us, zs);
-    std::vector<size_t> used(idx);
-    if ((!rat.valid || rat.rms > options_.max_rational_rms) && f.distances > options_.min_distances)
+    else
     {
-      // One inconsistent distance (a wrong decode there) is left out if that fixes the fit.
-      for (size_t drop = 0; drop < us.size(); ++drop)
+      const sl_projector::DepthModel rational = fitRationalLeavingOneOut(f, seen_at, options_, used);
+      f.rejected = !rational.valid || rational.rms > options_.max_rational_rms;
+      if (f.rejected)
+        ++res.rejected;
+      else
       {
-        std::vector<double> u2, z2;
-        std::vector<size_t> i2;
-        for (size_t i = 0; i < us.size(); ++i)
-          if (i != drop)
-          {
-            u2.push_back(us[i]);
-            z2.push_back(zs[i]);
-            i2.push_back(idx[i]);
-          }
-        const sl_projector::DepthModel r2 = fitRational(u2, z2);
-        if (r2.valid && (!rat.valid || r2.rms < rat.rms))
-        {
-          rat = r2;
-          used = i2;
-        }
+        fitModels(f, rational, used, residuals);
+        res.tables.linear[cell] = f.linear;
+        res.tables.rational[cell] = f.rational;
+        ++res.calibrated;
       }
     }
-    if (!rat.valid || rat.rms > options_.max_rational_rms)
-    {
-      f.rejected = true;
-      ++res.rejected;
-      res.primitives.push_back(std::move(f));
-      continue;
-    }
-    std::vector<double> lu, lz;
-    for (size_t k : used)
-    {
-      lu.push_back(f.u[k]);
-      lz.push_back(f.depth[k]);
-    }
-    const sl_projector::DepthModel lin = fitLinear(lu, lz);
-    f.linear = lin;
-    f.rational = rat;
-    for (size_t k : used)
-    {
-      f.linear_residual[k] = lin.depth(f.u[k]) - f.depth[k];
-      f.rational_residual[k] = rat.depth(f.u[k]) - f.depth[k];
-      lin_res[k].push_back(f.linear_residual[k]);
-      rat_res[k].push_back(f.rational_residual[k]);
-      all_lin.push_back(f.linear_residual[k]);
-      all_rat.push_back(f.rational_residual[k]);
-    }
-    res.tables.linear[p] = lin;
-    res.tables.rational[p] = rat;
-    ++res.calibrated;
     res.primitives.push_back(std::move(f));
   }
-  for (size_t k = 0; k < nd; ++k)
-  {
-    DistanceSummary& s = res.distances[k];
-    s.calibrated = static_cast<int>(lin_res[k].size());
-    s.linear_rms = rmsOf(lin_res[k]);
-    s.rational_rms = rmsOf(rat_res[k]);
-    for (double x : lin_res[k])
-      s.linear_max = std::max(s.linear_max, std::abs(x));
-    for (double x : rat_res[k])
-      s.rational_max = std::max(s.rational_max, std::abs(x));
-  }
-  res.linear_rms = rmsOf(all_lin);
-  res.rational_rms = rmsOf(all_rat);
-
+  summariseResiduals(residuals, res);
   if (res.calibrated == 0)
-  {
-    std::string why;
-    if (res.seen == 0)
-      why = "no primitive was decoded in any image";
-    else
-      why = std::to_string(res.too_few) + " of the " + std::to_string(res.seen) +
-            " primitives seen were seen at fewer than " + std::to_string(options_.min_distances) + " distances" +
-            (res.rejected ? ", " + std::to_string(res.rejected) + " had inconsistent fits" : std::string());
-    throw CalibrationError("plane calibration: no primitive could be calibrated: " + why +
-                           ". Distances: " + listDistances());
-  }
+    throw CalibrationError(
+        "plane calibration: no primitive could be calibrated: " + whyNoneCalibrated(res, options_.min_distances) +
+        ". Distances: " + listDistances(res.distances));
   return res;
 }
 
@@ -575,5 +645,4 @@ sl_projector::Rig withTables(const sl_projector::Rig& rig, const PlaneCalibratio
   return out;
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

@@ -1,4 +1,4 @@
-#include "sl_decoder/calibration/common.h"
+#include "sl_calibration/common.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,9 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 bool CalibrationPlane::intersect(const Eigen::Vector3d& ray, Eigen::Vector3d& point) const
@@ -28,20 +26,20 @@ bool CalibrationPlane::intersect(const Eigen::Vector3d& ray, Eigen::Vector3d& po
   return point.z() > 0.0;
 }
 
-std::vector<PrimitiveSample> decodedSamples(const DecodeResult& result)
+std::vector<PrimitiveSample> decodedSamples(const sl_decoder::DecodeResult& result)
 {
   std::vector<PrimitiveSample> out;
   out.reserve(static_cast<size_t>(result.valid));
-  for (const Blob& b : result.blobs)
+  for (const sl_decoder::Blob& b : result.blobs)
     if (b.decoded() && b.valid)
       out.push_back(PrimitiveSample{ b.row, b.col, b.u, b.v });
   return out;
 }
 
-DecoderConfig calibrationDecoderConfig(double epipolar_tolerance)
+sl_decoder::DecoderConfig calibrationDecoderConfig(double epipolar_tolerance)
 {
-  DecoderConfig config;
-  config.depth_mode = DepthMode::Triangulation;
+  sl_decoder::DecoderConfig config;
+  config.depth_mode = sl_decoder::DepthMode::Triangulation;
   config.epipolar_tolerance = epipolar_tolerance;
   config.identify_by_words = true;
   config.validate();
@@ -153,5 +151,4 @@ std::string fixed(double value, int digits)
   return buffer;
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

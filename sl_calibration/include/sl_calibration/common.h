@@ -12,9 +12,7 @@
 #include "sl_decoder/decoder.h"
 #include "sl_projector/rig.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /**
@@ -60,14 +58,14 @@ struct PrimitiveSample
  * @brief The decoded primitives of a decode result: every blob with a (row, col) and a 3D point
  * (so it passed the decoder's depth range and confidence checks).
  */
-std::vector<PrimitiveSample> decodedSamples(const DecodeResult& result);
+std::vector<PrimitiveSample> decodedSamples(const sl_decoder::DecodeResult& result);
 
 /**
  * @brief Default epipolar tolerance of the decoder on calibration images, px: a loose prior. A rig
  * measured with a ruler (baseline off by 10 mm, focal lengths by 3 %, each angle by 1 degree) puts
  * primitives tens of pixels off their epipolar curves, and there a whole lattice shifted by a row
  * fits the geometry as well as the true one. Calibration images are therefore identified by the
- * code (DecoderConfig::identify_by_words); the geometry only rules out the absurd.
+ * code (sl_decoder::DecoderConfig::identify_by_words); the geometry only rules out the absurd.
  */
 constexpr double kCalibrationEpipolarTolerance = 40.0;
 
@@ -76,7 +74,7 @@ constexpr double kCalibrationEpipolarTolerance = 40.0;
  * rig being calibrated may have no depth tables yet), identification by the words, and the given
  * epipolar tolerance (px).
  */
-DecoderConfig calibrationDecoderConfig(double epipolar_tolerance = kCalibrationEpipolarTolerance);
+sl_decoder::DecoderConfig calibrationDecoderConfig(double epipolar_tolerance = kCalibrationEpipolarTolerance);
 
 /**
  * @brief Reads an image file as 8-bit grey (colour is converted, 16-bit scaled to 8).
@@ -106,5 +104,4 @@ double rotationAngle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
 /// @brief Formats @p value with @p digits decimals.
 std::string fixed(double value, int digits);
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

@@ -1,4 +1,4 @@
-#include "sl_decoder/calibration/projector_calibration.h"
+#include "sl_calibration/projector_calibration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,11 +9,9 @@
 #include <Eigen/Dense>
 #include <opencv2/core.hpp>
 
-#include "sl_decoder/calibration/optimizer.h"
+#include "sl_calibration/optimizer.h"
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 std::vector<ProjectorCorrespondence> projectorCorrespondences(const sl_projector::Pattern& pattern,
@@ -371,5 +369,4 @@ ProjectorCalibrationResult calibrateProjector(const std::vector<ProjectorCorresp
   return out;
 }
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

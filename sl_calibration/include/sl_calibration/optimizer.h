@@ -8,9 +8,7 @@
 
 #include <Eigen/Core>
 
-namespace sl_decoder
-{
-namespace calibration
+namespace sl_calibration
 {
 
 /**
@@ -41,5 +39,4 @@ struct LevenbergMarquardt
   double minimize(const Residuals& residuals, const std::vector<bool>& free, Eigen::VectorXd& params);
 };
 
-}  // namespace calibration
-}  // namespace sl_decoder
+}  // namespace sl_calibration

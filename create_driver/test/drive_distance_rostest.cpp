@@ -7,6 +7,8 @@
 
 #include <sl_msgs/DriveDistanceAction.h>
 
+#include <sl_testing/rostest_main.h>
+
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
@@ -65,7 +67,7 @@ TEST(DriveDistance, CancelStopsWheels)
   ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
   const double x0 = restingX(sys);
   client.sendGoal(goal(2.0, 0.2));
-  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; })) << "goal did not start";
+  ASSERT_TRUE(waitUntil([&] { return sys.pose.get().pose.position.x > x0 + 0.05; })) << "goal did not start";
   client.cancelGoal();
   ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
@@ -84,7 +86,7 @@ TEST(DriveDistance, NewGoalReplacesOld)
   ASSERT_TRUE(first.waitForServer(ros::Duration(kTimeout)) && second.waitForServer(ros::Duration(kTimeout)));
   const double x0 = restingX(sys);
   first.sendGoal(goal(2.0, 0.2));
-  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
+  ASSERT_TRUE(waitUntil([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
   second.sendGoal(goal(-0.1, 0.1));
   ASSERT_TRUE(first.waitForResult(ros::Duration(kTimeout)));
   EXPECT_EQ(first.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
@@ -112,11 +114,5 @@ TEST(DriveDistance, InvalidGoalsRejected)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "drive_distance_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
+  return sl_testing::runRostests(argc, argv, "drive_distance_test");
 }

@@ -1,17 +1,16 @@
 // Rostest: the nodelet's parameters are read and validated in one place and fail fast.
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <stdexcept>
-#include <string>
-
-#include <ros/ros.h>
-#include <sys/wait.h>
-
 #include <array>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
+
+#include <ros/ros.h>
+#include <sl_testing/process.h>
+#include <sl_testing/rostest_main.h>
 
 #include "cloud_conversion.h"
 #include "params.h"
@@ -350,18 +349,11 @@ TEST(ObstacleParams, NodeExitsOnABadParameter)
   // Run the node with a bad private parameter; it must exit with an error that names it.
   const std::string command =
       "timeout 90 rosrun sl_obstacle obstacle_node __name:=obstacle_bad_param _width:=-0.5 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
   std::string output;
-  char buffer[512];
-  while (fgets(buffer, sizeof(buffer), pipe) != nullptr)
-  {
-    output += buffer;
-  }
-  const int status = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status)) << output;
-  EXPECT_NE(WEXITSTATUS(status), 0) << output;
-  EXPECT_NE(WEXITSTATUS(status), 124) << "the node did not exit: " << output;
+  const int status = sl_testing::runShell(command, output);
+  ASSERT_GE(status, 0) << output;
+  EXPECT_NE(status, 0) << output;
+  EXPECT_NE(status, 124) << "the node did not exit: " << output;
   EXPECT_NE(output.find("parameter ~width"), std::string::npos) << output;
 }
 }  // namespace
@@ -369,8 +361,5 @@ TEST(ObstacleParams, NodeExitsOnABadParameter)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "obstacle_params_rostest");
-  ros::NodeHandle nh;
-  return RUN_ALL_TESTS();
+  return sl_testing::runRostests(argc, argv, "obstacle_params_rostest", 0);
 }

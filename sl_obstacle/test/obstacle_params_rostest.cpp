@@ -335,13 +335,26 @@ TEST(RayConversion, StateOffsetOutsideThePointIsRefused)
 
 TEST(ObstacleParams, ConfigValidationForReconfigure)
 {
+  // The message of validateConfig's std::invalid_argument, "" when it throws none.
+  const auto error = [](const ObstacleConfig& c)
+  {
+    try
+    {
+      validateConfig(c);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
   ObstacleConfig c = ObstacleConfig::__getDefault__();
-  EXPECT_EQ(validateConfig(c), "");
+  EXPECT_EQ(error(c), "");
   c.min_speed = 0.4;
-  EXPECT_EQ(validateConfig(c).rfind("min_speed", 0), 0U) << validateConfig(c);
+  EXPECT_EQ(error(c).rfind("min_speed", 0), 0U) << error(c);
   c = ObstacleConfig::__getDefault__();
   c.cell_size = 0.5;  // above the cfg's maximum
-  EXPECT_EQ(validateConfig(c).rfind("cell_size", 0), 0U) << validateConfig(c);
+  EXPECT_EQ(error(c).rfind("cell_size", 0), 0U) << error(c);
 }
 
 TEST(ObstacleParams, NodeExitsOnABadParameter)

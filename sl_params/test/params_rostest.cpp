@@ -1,4 +1,5 @@
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,36 @@ std::string errorOf(F f)
   }
   return "";
 }
+
+/// The part of a generated dynamic_reconfigure Config that checkReconfigureTypes() reads.
+template <const char* const* kNames, const char* const* kTypes, size_t kCount>
+struct FakeConfig
+{
+  struct Description
+  {
+    std::string name, type;
+  };
+  static std::vector<std::shared_ptr<const Description>> __getParamDescriptions__()
+  {
+    std::vector<std::shared_ptr<const Description>> d;
+    for (size_t i = 0; i < kCount; ++i)
+      d.push_back(std::make_shared<const Description>(Description{ kNames[i], kTypes[i] }));
+    return d;
+  }
+};
+constexpr const char* kGoodNames[] = { "an_int", "a_double", "an_int_for_a_double", "a_bool", "a_string", "not_set" };
+constexpr const char* kGoodTypes[] = { "int", "double", "double", "bool", "str", "int" };
+constexpr const char* kBadNames[] = { "a_double", "a_string_for_a_double", "an_int" };
+constexpr const char* kBadTypes[] = { "double", "double", "int" };
 }  // namespace
+
+TEST(Params, ReconfigureTypesAreCheckedForEveryParameterOfAConfig)
+{
+  const ros::NodeHandle pnh("~");
+  EXPECT_EQ(errorOf([&] { sl_params::checkReconfigureTypes<FakeConfig<kGoodNames, kGoodTypes, 6>>(pnh); }), "");
+  EXPECT_EQ(errorOf([&] { sl_params::checkReconfigureTypes<FakeConfig<kBadNames, kBadTypes, 3>>(pnh); }),
+            "~a_string_for_a_double must be a number, got a string");
+}
 
 TEST(Params, ValuesOfTheRightTypeAreRead)
 {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <ros/ros.h>
+#include <sl_testing/errors.h>
 #include <sl_testing/process.h>
 #include <sl_testing/rostest_main.h>
 
@@ -335,19 +336,7 @@ TEST(RayConversion, StateOffsetOutsideThePointIsRefused)
 
 TEST(ObstacleParams, ConfigValidationForReconfigure)
 {
-  // The message of validateConfig's std::invalid_argument, "" when it throws none.
-  const auto error = [](const ObstacleConfig& c)
-  {
-    try
-    {
-      validateConfig(c);
-    }
-    catch (const std::invalid_argument& e)
-    {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto error = [](const ObstacleConfig& c) { return sl_testing::invalidArgumentOf([&] { validateConfig(c); }); };
   ObstacleConfig c = ObstacleConfig::__getDefault__();
   EXPECT_EQ(error(c), "");
   c.min_speed = 0.4;

@@ -5,26 +5,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <sl_testing/errors.h>
+
 #include "sl_projector/pattern.h"
 #include "sl_projector/primitives.h"
 
 using namespace sl_projector;
-
-namespace
-{
-std::string errorOf(const PatternConfig& c)
-{
-  try
-  {
-    c.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using sl_testing::validationError;
 
 TEST(Pattern, DefaultLayoutIsThePrototypes)
 {
@@ -109,28 +96,28 @@ TEST(Pattern, InvalidConfigurationsNameTheField)
 {
   PatternConfig c;
   c.cols = 69;  // 69 * 7 = 483 > 480
-  EXPECT_EQ(errorOf(c).rfind("cols", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("cols", 0), 0u) << validationError(c);
   c = PatternConfig();
   c.rows = 22;  // 330 > 320
-  EXPECT_EQ(errorOf(c).rfind("rows", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("rows", 0), 0u) << validationError(c);
   c = PatternConfig();
   c.gap_x = 0;
-  EXPECT_EQ(errorOf(c).rfind("gap_x", 0), 0u);
+  EXPECT_EQ(validationError(c).rfind("gap_x", 0), 0u);
   c = PatternConfig();
   c.primitive_height = 2;
-  EXPECT_EQ(errorOf(c).rfind("primitive_height", 0), 0u);
+  EXPECT_EQ(validationError(c).rfind("primitive_height", 0), 0u);
   c = PatternConfig();
   c.offset_x = -1;
-  EXPECT_EQ(errorOf(c).rfind("offset_x", 0), 0u);
+  EXPECT_EQ(validationError(c).rfind("offset_x", 0), 0u);
   c = PatternConfig();
   c.projector_width = 0;
-  EXPECT_EQ(errorOf(c).rfind("projector_width", 0), 0u);
+  EXPECT_EQ(validationError(c).rfind("projector_width", 0), 0u);
   // Valid geometry but duplicate words: refused by the word table.
   c = PatternConfig();
   c.rows = 19;
   c.primitive_height = 5;
   c.gap_y = 2;
-  EXPECT_EQ(errorOf(c), "");
+  EXPECT_EQ(validationError(c), "");
   EXPECT_THROW(Pattern{ c }, std::invalid_argument);
 }
 
@@ -141,22 +128,22 @@ TEST(Pattern, HugePrimitivesAndGapsAreRefusedWithoutOverflow)
   PatternConfig c;
   c.primitive_width = 2147483647;
   c.gap_x = 1;
-  EXPECT_EQ(errorOf(c).rfind("primitive_width", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("primitive_width", 0), 0u) << validationError(c);
   c = PatternConfig();
   c.gap_x = 2147483647;
-  EXPECT_EQ(errorOf(c).rfind("gap_x", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("gap_x", 0), 0u) << validationError(c);
   c = PatternConfig();
   c.primitive_height = 2147483647;
   c.gap_y = 2147483647;
-  EXPECT_EQ(errorOf(c).rfind("primitive_height", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("primitive_height", 0), 0u) << validationError(c);
   c = PatternConfig();
   c.offset_y = 2147483647;
-  EXPECT_EQ(errorOf(c).rfind("offset_y", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("offset_y", 0), 0u) << validationError(c);
   c = PatternConfig();
   c.projector_width = kMaxImageSide + 1;
-  EXPECT_EQ(errorOf(c).rfind("projector_width", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("projector_width", 0), 0u) << validationError(c);
   // A primitive as wide as the frame is refused by the layout, not by the bound.
   c = PatternConfig();
   c.primitive_width = c.projector_width;
-  EXPECT_EQ(errorOf(c).rfind("cols", 0), 0u) << errorOf(c);
+  EXPECT_EQ(validationError(c).rfind("cols", 0), 0u) << validationError(c);
 }

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <gtest/gtest.h>
+
 namespace sl_testing
 {
 /// @brief The message of the std::invalid_argument that @p f throws; "" when it throws none.
@@ -27,5 +29,20 @@ template <class Config>
 std::string validationError(const Config& config)
 {
   return invalidArgumentOf([&] { config.validate(); });
+}
+/**
+ * @brief Whether a default @p Config changed by @p change is refused by its validate() with a message
+ * that starts with @p name (the parameter's name), for EXPECT_TRUE.
+ */
+template <class Config, class Change>
+::testing::AssertionResult refusedNaming(const std::string& name, Change change)
+{
+  Config config;
+  change(config);
+  const std::string error = validationError(config);
+  if (error.rfind(name, 0) == 0)
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "expected a refusal starting with \"" << name << "\", got \"" << error
+                                       << "\"";
 }
 }  // namespace sl_testing

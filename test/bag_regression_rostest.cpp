@@ -33,7 +33,7 @@
 #include <sl_obstacle/ObstacleStatus.h>
 #include <yaml-cpp/yaml.h>
 
-#include "system_test_main.h"
+#include <sl_testing/rostest_main.h>
 
 namespace
 {
@@ -351,5 +351,5 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
 
 int main(int argc, char** argv)
 {
-  return sl_bringup_test::runSystemTests(argc, argv, "bag_regression_rostest");
+  return sl_testing::runRostests(argc, argv, "bag_regression_rostest");
 }

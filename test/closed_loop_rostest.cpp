@@ -117,5 +117,5 @@ TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
 
 int main(int argc, char** argv)
 {
-  return sl_bringup_test::runSystemTests(argc, argv, "closed_loop_rostest");
+  return sl_testing::runRostests(argc, argv, "closed_loop_rostest");
 }

@@ -230,5 +230,5 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
 
 int main(int argc, char** argv)
 {
-  return sl_bringup_test::runSystemTests(argc, argv, "explore_rostest");
+  return sl_testing::runRostests(argc, argv, "explore_rostest");
 }

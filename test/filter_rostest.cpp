@@ -335,5 +335,5 @@ TEST_F(Filter, DrivesWhereTheUserSaysExceptIntoThings)
 
 int main(int argc, char** argv)
 {
-  return sl_bringup_test::runSystemTests(argc, argv, "filter_rostest");
+  return sl_testing::runRostests(argc, argv, "filter_rostest");
 }

@@ -214,5 +214,5 @@ TEST_F(Room, RunsAMinuteWithoutContact)
 
 int main(int argc, char** argv)
 {
-  return sl_bringup_test::runSystemTests(argc, argv, "room_rostest");
+  return sl_testing::runRostests(argc, argv, "room_rostest");
 }

@@ -15,7 +15,7 @@
 #include <sl_obstacle/ObstacleStatus.h>
 #include <std_msgs/UInt8.h>
 
-#include "system_test_main.h"
+#include <sl_testing/rostest_main.h>
 
 namespace sl_bringup_test
 {

@@ -3,13 +3,13 @@
 // file's, and invalid rig files are refused with the key named. No ROS master needed.
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <ros/package.h>
+#include <sl_testing/process.h>
 #include <urdf/model.h>
 #include <yaml-cpp/yaml.h>
 
@@ -36,15 +36,7 @@ GeneratorRun generate(const std::string& rig_file)
   const std::string command =
       "/usr/bin/python3 " SL_BRINGUP_SCRIPTS_DIR "/bringup_make_urdf.py '" + rig_file + "' 2> '" + err_file + "'";
   GeneratorRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe)
-    return run;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-    run.out.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.status = sl_testing::runShell(command, run.out);
   run.err = readFile(err_file);
   return run;
 }

@@ -5,6 +5,8 @@
 
 #include <nav_msgs/Odometry.h>
 
+#include <sl_testing/rostest_main.h>
+
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
@@ -51,7 +53,7 @@ TEST(CmdVelWatchdog, NonFiniteCommandsAreRejected)
   t.angular.z = 0.5;
   const double worst = sys.maxWheelOver(15, [&] { sys.cmd_pub.publish(t); });
   EXPECT_EQ(worst, 0.0) << "a NaN command moved the wheels";
-  EXPECT_TRUE(waitFor(
+  EXPECT_TRUE(waitUntil(
       [&]
       {
         double r = 0;
@@ -62,11 +64,5 @@ TEST(CmdVelWatchdog, NonFiniteCommandsAreRejected)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "cmd_vel_watchdog_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
+  return sl_testing::runRostests(argc, argv, "cmd_vel_watchdog_test");
 }

@@ -8,6 +8,8 @@
 
 #include <sl_msgs/DriveDistanceAction.h>
 
+#include <sl_testing/rostest_main.h>
+
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
@@ -28,7 +30,7 @@ TEST(ContactLatch, ContactStopsAndLatchesUntilReset)
   System sys(nh);
   ros::Publisher contact = nh.advertise<std_msgs::UInt8>("contact", 10, true);
   ASSERT_TRUE(sys.waitRunning());
-  ASSERT_TRUE(waitFor([&] { return contact.getNumSubscribers() > 0; }));
+  ASSERT_TRUE(waitUntil([&] { return contact.getNumSubscribers() > 0; }));
 
   ASSERT_TRUE(sys.driveUntil(0.15, 0.0, [&] { return sys.wheels() > 0.1; })) << "robot did not start";
   setContact(contact, 1);  // right bumper
@@ -54,7 +56,7 @@ TEST(ContactLatch, ContactStopsAndLatchesUntilReset)
   ASSERT_TRUE(ros::service::call("reset_hazard", reset));
   EXPECT_TRUE(reset.response.success) << reset.response.message;
   ASSERT_TRUE(sys.driveUntil(0.15, 0.0, [&] { return sys.wheels() > 0.1; })) << "no motion after reset";
-  EXPECT_TRUE(waitFor([&] { return !sys.hazards.get().latched; }));
+  EXPECT_TRUE(waitUntil([&] { return !sys.hazards.get().latched; }));
   ASSERT_TRUE(sys.waitWheelsStopped());
 }
 
@@ -64,9 +66,9 @@ TEST(ContactLatch, ResetRefusedWhilePressedAndBackingAwayReleases)
   System sys(nh);
   ros::Publisher contact = nh.advertise<std_msgs::UInt8>("contact", 10, true);
   ASSERT_TRUE(sys.waitRunning());
-  ASSERT_TRUE(waitFor([&] { return contact.getNumSubscribers() > 0; }));
+  ASSERT_TRUE(waitUntil([&] { return contact.getNumSubscribers() > 0; }));
   setContact(contact, 2);  // left bumper
-  ASSERT_TRUE(waitFor([&] { return sys.hazards.get().latched && sys.hazards.get().bump_left; }));
+  ASSERT_TRUE(waitUntil([&] { return sys.hazards.get().latched && sys.hazards.get().bump_left; }));
   std_srvs::Trigger reset;
   ASSERT_TRUE(ros::service::call("reset_hazard", reset));
   EXPECT_FALSE(reset.response.success) << "reset accepted while the bumper is pressed";
@@ -88,13 +90,13 @@ TEST(ContactLatch, GoalEndsWithBumper)
   actionlib::SimpleActionClient<sl_msgs::DriveDistanceAction> client("drive_distance", true);
   ASSERT_TRUE(sys.waitRunning());
   ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
-  ASSERT_TRUE(waitFor([&] { return !sys.hazards.get().latched; }));
+  ASSERT_TRUE(waitUntil([&] { return !sys.hazards.get().latched; }));
   const double x0 = sys.pose.get().pose.position.x;
   sl_msgs::DriveDistanceGoal g;
   g.distance = 1.0;
   g.speed = 0.2;
   client.sendGoal(g);
-  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
+  ASSERT_TRUE(waitUntil([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
   setContact(contact, 3);
   ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::ABORTED);
@@ -105,11 +107,5 @@ TEST(ContactLatch, GoalEndsWithBumper)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "contact_latch_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
+  return sl_testing::runRostests(argc, argv, "contact_latch_test");
 }

@@ -7,6 +7,8 @@
 
 #include <sl_msgs/DriveDistanceAction.h>
 
+#include <sl_testing/rostest_main.h>
+
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
@@ -31,15 +33,25 @@ double restingX(System& sys)
   EXPECT_TRUE(sys.pose.waitMore(10));
   return sys.pose.get().pose.position.x;
 }
+
+/// The system and a client of drive_distance, both up (the driver running, the server there).
+class DriveDistance : public testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    ASSERT_TRUE(sys.waitRunning());
+    ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
+  }
+
+  ros::NodeHandle nh;
+  System sys{ nh };
+  Client client{ "drive_distance", true };
+};
 }  // namespace
 
-TEST(DriveDistance, HalfMetreWithin5mm)
+TEST_F(DriveDistance, HalfMetreWithin5mm)
 {
-  ros::NodeHandle nh;
-  System sys(nh);
-  Client client("drive_distance", true);
-  ASSERT_TRUE(sys.waitRunning());
-  ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
   for (const double d : { 0.5, -0.5 })
   {
     const double x0 = restingX(sys);
@@ -56,16 +68,11 @@ TEST(DriveDistance, HalfMetreWithin5mm)
   }
 }
 
-TEST(DriveDistance, CancelStopsWheels)
+TEST_F(DriveDistance, CancelStopsWheels)
 {
-  ros::NodeHandle nh;
-  System sys(nh);
-  Client client("drive_distance", true);
-  ASSERT_TRUE(sys.waitRunning());
-  ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
   const double x0 = restingX(sys);
   client.sendGoal(goal(2.0, 0.2));
-  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; })) << "goal did not start";
+  ASSERT_TRUE(waitUntil([&] { return sys.pose.get().pose.position.x > x0 + 0.05; })) << "goal did not start";
   client.cancelGoal();
   ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
@@ -74,33 +81,24 @@ TEST(DriveDistance, CancelStopsWheels)
   EXPECT_TRUE(sys.waitWheelsStopped(10.0)) << "wheels not stopped after cancel";
 }
 
-TEST(DriveDistance, NewGoalReplacesOld)
+TEST_F(DriveDistance, NewGoalReplacesOld)
 {
-  ros::NodeHandle nh;
-  System sys(nh);
-  Client first("drive_distance", true);
   Client second("drive_distance", true);
-  ASSERT_TRUE(sys.waitRunning());
-  ASSERT_TRUE(first.waitForServer(ros::Duration(kTimeout)) && second.waitForServer(ros::Duration(kTimeout)));
+  ASSERT_TRUE(second.waitForServer(ros::Duration(kTimeout)));
   const double x0 = restingX(sys);
-  first.sendGoal(goal(2.0, 0.2));
-  ASSERT_TRUE(waitFor([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
+  client.sendGoal(goal(2.0, 0.2));
+  ASSERT_TRUE(waitUntil([&] { return sys.pose.get().pose.position.x > x0 + 0.05; }));
   second.sendGoal(goal(-0.1, 0.1));
-  ASSERT_TRUE(first.waitForResult(ros::Duration(kTimeout)));
-  EXPECT_EQ(first.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
-  EXPECT_EQ(first.getResult()->reason, DriveDistanceResult::PREEMPTED);
+  ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
+  EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
+  EXPECT_EQ(client.getResult()->reason, DriveDistanceResult::PREEMPTED);
   ASSERT_TRUE(second.waitForResult(ros::Duration(kTimeout)));
   EXPECT_EQ(second.getState(), actionlib::SimpleClientGoalState::SUCCEEDED);
   EXPECT_NEAR(second.getResult()->distance_travelled, -0.1, 0.005);
 }
 
-TEST(DriveDistance, InvalidGoalsRejected)
+TEST_F(DriveDistance, InvalidGoalsRejected)
 {
-  ros::NodeHandle nh;
-  System sys(nh);
-  Client client("drive_distance", true);
-  ASSERT_TRUE(sys.waitRunning());
-  ASSERT_TRUE(client.waitForServer(ros::Duration(kTimeout)));
   for (const auto& g : { goal(0.5, 0.0), goal(0.5, -0.1), goal(std::numeric_limits<double>::quiet_NaN(), 0.1) })
   {
     client.sendGoal(g);
@@ -112,11 +110,5 @@ TEST(DriveDistance, InvalidGoalsRejected)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "drive_distance_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
+  return sl_testing::runRostests(argc, argv, "drive_distance_test");
 }

@@ -1,6 +1,7 @@
 // The driver core talking to the simulator core in-process: the same bytes as over a serial
 // line, with a simulated line latency, but no pty, no threads and no wall clock.
 #include <gtest/gtest.h>
+#include <sl_testing/errors.h>
 
 #include <cmath>
 #include <deque>
@@ -157,15 +158,7 @@ void validate(const cd::SerialLinkParams& p)
 template <typename Config>
 std::string refusal(const Config& c)
 {
-  try
-  {
-    validate(c);
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return "";
+  return sl_testing::invalidArgumentOf([&] { validate(c); });
 }
 }  // namespace
 

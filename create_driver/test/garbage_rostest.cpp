@@ -7,6 +7,8 @@
 
 #include <sl_msgs/DriveDistanceAction.h>
 
+#include <sl_testing/rostest_main.h>
+
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
@@ -24,7 +26,7 @@ TEST(Garbage, CountedAndSurvived)
   double corrupt = corrupt0;
   int injections = 0;
   // Inject until the corruption shows up in the diagnostics (each injection corrupts a frame).
-  ASSERT_TRUE(waitFor(
+  ASSERT_TRUE(waitUntil(
       [&]
       {
         if (injections < 50)
@@ -40,7 +42,7 @@ TEST(Garbage, CountedAndSurvived)
 
   // Frames keep flowing and the link never dropped.
   double valid = valid0;
-  ASSERT_TRUE(waitFor(
+  ASSERT_TRUE(waitUntil(
       [&]
       { return diagValue(sys.diagnostics.get(), "Sensor stream", "valid frames", &valid) && valid > valid0 + 100; }));
   EXPECT_EQ(sys.mode.get().connects, connects0) << "garbage caused a reconnect";
@@ -65,11 +67,5 @@ TEST(Garbage, CountedAndSurvived)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "garbage_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
+  return sl_testing::runRostests(argc, argv, "garbage_test");
 }

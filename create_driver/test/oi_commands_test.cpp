@@ -98,9 +98,3 @@ TEST(OiCommands, ModelDefaults)
   EXPECT_DOUBLE_EQ(cd::defaultWheelBase(cd::Model::CREATE_1), 0.258);
   EXPECT_DOUBLE_EQ(cd::defaultWheelBase(cd::Model::CREATE_2), 0.235);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -7,6 +7,8 @@
 
 #include <std_srvs/Trigger.h>
 
+#include <sl_testing/rostest_main.h>
+
 #include "rostest_helpers.h"
 
 using namespace test_helpers;
@@ -34,8 +36,8 @@ TEST(Reconnect, ReopenedPtyReconnectsAndStops)
   ASSERT_TRUE(ros::service::call("create_sim/reopen", reopen));
   ASSERT_TRUE(reopen.response.success);
 
-  ASSERT_TRUE(waitFor([&] { return saw_down.load(); })) << "driver never noticed the link going down";
-  ASSERT_TRUE(waitFor(
+  ASSERT_TRUE(waitUntil([&] { return saw_down.load(); })) << "driver never noticed the link going down";
+  ASSERT_TRUE(waitUntil(
       [&]
       {
         const auto m = sys.mode.get();
@@ -45,7 +47,7 @@ TEST(Reconnect, ReopenedPtyReconnectsAndStops)
   EXPECT_GT(sys.status.get().pty_opens, opens0);
 
   // Reconnected: Start + Safe + stop were sent.
-  ASSERT_TRUE(waitFor(
+  ASSERT_TRUE(waitUntil(
       [&]
       {
         const auto s = sys.status.get();
@@ -74,8 +76,8 @@ TEST(Reconnect, PowerCycledRobotIsRestarted)
   // sent again.
   std_srvs::Trigger power;
   ASSERT_TRUE(ros::service::call("create_sim/power_cycle", power));
-  ASSERT_TRUE(waitFor([&] { return sys.status.get().mode == create_driver::Mode::OFF; }));
-  ASSERT_TRUE(waitFor(
+  ASSERT_TRUE(waitUntil([&] { return sys.status.get().mode == create_driver::Mode::OFF; }));
+  ASSERT_TRUE(waitUntil(
       [&]
       {
         const auto s = sys.status.get();
@@ -87,11 +89,5 @@ TEST(Reconnect, PowerCycledRobotIsRestarted)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "reconnect_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
+  return sl_testing::runRostests(argc, argv, "reconnect_test");
 }

@@ -7,18 +7,6 @@
 
 namespace test_helpers
 {
-bool waitFor(const std::function<bool()>& cond, double timeout_s)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    if (cond())
-      return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return cond();
-}
-
 bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix, const std::string& key,
                double* value)
 {
@@ -39,7 +27,7 @@ bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string&
 
 bool System::waitRunning(double timeout_s)
 {
-  return waitFor(
+  return waitUntil(
       [&]
       {
         const auto m = mode.get();
@@ -51,7 +39,7 @@ bool System::waitRunning(double timeout_s)
 
 bool System::waitWheelsStopped(double timeout_s)
 {
-  return waitFor([&] { return status.count() > 0 && wheels() == 0.0; }, timeout_s);
+  return waitUntil([&] { return status.count() > 0 && wheels() == 0.0; }, timeout_s);
 }
 
 bool System::driveUntil(double linear, double angular, const std::function<bool()>& cond, double timeout_s)
@@ -87,7 +75,7 @@ double System::maxWheelOver(uint64_t n, const std::function<void()>& each_tick)
         ++seen;
       });
   const uint64_t target = status.count() + n;
-  waitFor(
+  waitUntil(
       [&]
       {
         if (each_tick)
@@ -106,7 +94,7 @@ double System::maxWheelOver(uint64_t n, const std::function<void()>& each_tick)
 
 bool System::diag(const std::string& status_suffix, const std::string& key, double* value)
 {
-  return waitFor([&] { return diagnostics.count() > 0 && diagValue(diagnostics.get(), status_suffix, key, value); });
+  return waitUntil([&] { return diagnostics.count() > 0 && diagValue(diagnostics.get(), status_suffix, key, value); });
 }
 
 }  // namespace test_helpers

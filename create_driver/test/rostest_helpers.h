@@ -15,14 +15,12 @@
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
 #include <sl_msgs/Hazards.h>
+#include <sl_testing/wait.h>
 
 namespace test_helpers
 {
-/// Generous default timeout for a loaded 2-core machine, s.
-constexpr double kTimeout = 60.0;
-
-/// @brief Polls @p cond (callbacks run on an AsyncSpinner) until it holds or @p timeout_s passes.
-bool waitFor(const std::function<bool()>& cond, double timeout_s = kTimeout);
+using sl_testing::kTimeout;
+using sl_testing::waitUntil;
 
 /// @brief Keeps the latest message of a topic and how many arrived.
 template <class M>
@@ -61,7 +59,7 @@ public:
   bool waitMore(uint64_t n, double timeout_s = kTimeout)
   {
     const uint64_t target = count() + n;
-    return waitFor([&] { return count() >= target; }, timeout_s);
+    return waitUntil([&] { return count() >= target; }, timeout_s);
   }
 
 private:

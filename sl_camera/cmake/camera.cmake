@@ -49,23 +49,18 @@ endfunction()
 
 # Rostests (with CATKIN_ENABLE_TESTING).
 function(sl_camera_camera_tests)
-  add_rostest_gtest(camera_player_rostest test/camera_player.test test/camera_player_rostest.cpp)
-  target_include_directories(camera_player_rostest PRIVATE ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
-  target_link_libraries(camera_player_rostest ${catkin_LIBRARIES} ${OpenCV_LIBS})
-  add_dependencies(camera_player_rostest camera_node sl_camera_nodelets)
+  set(_started camera_node sl_camera_nodelets)
+  sl_rostest_client(camera_player_rostest test/camera_player_rostest.cpp TEST test/camera_player.test
+    INCLUDE_DIRS ${OpenCV_INCLUDE_DIRS} LIBRARIES ${OpenCV_LIBS} DEPENDS ${_started})
   if(ARAVIS_FOUND)
-    add_rostest_gtest(camera_aravis_rostest test/camera_aravis.test test/camera_aravis_rostest.cpp)
-    target_include_directories(camera_aravis_rostest PRIVATE ${catkin_INCLUDE_DIRS})
-    target_link_libraries(camera_aravis_rostest ${catkin_LIBRARIES})
-    add_dependencies(camera_aravis_rostest camera_node sl_camera_nodelets)
+    sl_rostest_client(camera_aravis_rostest test/camera_aravis_rostest.cpp TEST test/camera_aravis.test
+      DEPENDS ${_started})
     # A GigE Vision camera on 127.0.0.1: arv-fake-gv-camera-0.8 (Debian package aravis-tools).
     find_program(ARV_FAKE_GV_CAMERA arv-fake-gv-camera-0.8)
     find_program(ARV_TOOL arv-tool-0.8)
     if(ARV_FAKE_GV_CAMERA AND ARV_TOOL)
-      add_rostest_gtest(camera_fake_gv_rostest test/camera_fake_gv.test test/camera_fake_gv_rostest.cpp)
-      target_include_directories(camera_fake_gv_rostest PRIVATE ${catkin_INCLUDE_DIRS})
-      target_link_libraries(camera_fake_gv_rostest ${catkin_LIBRARIES})
-      add_dependencies(camera_fake_gv_rostest camera_node sl_camera_nodelets)
+      sl_rostest_client(camera_fake_gv_rostest test/camera_fake_gv_rostest.cpp TEST test/camera_fake_gv.test
+        DEPENDS ${_started})
     else()
       message(WARNING "sl_camera: arv-fake-gv-camera-0.8 or arv-tool-0.8 not found, skipping the camera_fake_gv "
                       "rostest (install aravis-tools and aravis-tools-cli)")

@@ -12,21 +12,13 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sl_testing/rostest_main.h>
+#include <sl_testing/wait.h>
+
+using sl_testing::waitUntil;
 
 namespace
 {
-bool waitUntil(const std::function<bool()>& done, double timeout_s)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    if (done())
-      return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return done();
-}
-
 std::string valueOf(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key)
 {
   for (const auto& kv : s.values)
@@ -108,9 +100,5 @@ TEST(CameraAravisNode, StreamsTheFakeCameraWithCameraInfoAndDiagnostics)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "camera_aravis_rostest");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
+  return sl_testing::runRostests(argc, argv, "camera_aravis_rostest");
 }

@@ -6,27 +6,16 @@
 #include <limits>
 #include <string>
 
+#include <sl_testing/errors.h>
 #include "sl_camera/camera/camera_config.h"
 
 using sl_camera::CameraBackend;
 using sl_camera::CameraConfig;
 
+using sl_testing::validationError;
+
 namespace
 {
-/// The message of the invalid_argument that validate() throws, or "" when it does not throw.
-std::string validationError(const CameraConfig& c)
-{
-  try
-  {
-    c.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return std::string();
-}
-
 bool startsWith(const std::string& s, const std::string& prefix)
 {
   return s.rfind(prefix, 0) == 0;

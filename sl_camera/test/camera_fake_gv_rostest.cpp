@@ -20,8 +20,12 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
+#include <sl_testing/process.h>
+#include <sl_testing/wait.h>
 
 extern char** environ;
+
+using sl_testing::waitUntil;
 
 namespace
 {
@@ -64,13 +68,7 @@ void killCamera()
 std::string run(const std::string& command)
 {
   std::string out;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (!pipe)
-    return out;
-  char buf[512];
-  while (std::fgets(buf, sizeof(buf), pipe))
-    out += buf;
-  ::pclose(pipe);
+  sl_testing::run(command, out);
   return out;
 }
 
@@ -140,18 +138,6 @@ private:
 };
 
 Watch* g_watch = nullptr;
-
-bool waitUntil(const std::function<bool()>& done, double timeout_s)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    if (done())
-      return true;
-    ros::WallDuration(0.005).sleep();
-  }
-  return done();
-}
 
 /// Waits for @p n more images and checks them: complete 752 x 480 mono8, at the set rate (stamps).
 void expectFullFramesAtRate(size_t n, double period_tolerance)

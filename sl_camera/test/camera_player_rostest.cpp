@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -14,7 +13,6 @@
 #include <functional>
 #include <mutex>
 #include <string>
-#include <sys/wait.h>
 #include <utility>
 #include <vector>
 
@@ -25,8 +23,12 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sl_testing/process.h>
+#include <sl_testing/wait.h>
 
 namespace fs = std::filesystem;
+using sl_testing::run;
+using sl_testing::waitUntil;
 
 namespace
 {
@@ -69,19 +71,6 @@ void ensureFolder(const std::string& folder = g_folder, bool with_unreadable = f
     ASSERT_TRUE(cv::imwrite((fs::path(staging) / name).string(), image));
   }
   fs::rename(staging, folder);
-}
-
-/// Waits (spinning in the background) until @p done holds or the timeout passes.
-bool waitUntil(const std::function<bool()>& done, double timeout_s)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    if (done())
-      return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return done();
 }
 
 /// Collects the latest diagnostic status per name.
@@ -182,19 +171,6 @@ private:
   std::vector<sensor_msgs::ImageConstPtr> images_;
   std::vector<sensor_msgs::CameraInfoConstPtr> infos_;
 };
-
-/// Runs a command, returns its exit status and combined output.
-int run(const std::string& command, std::string& output)
-{
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe)
-    return -1;
-  std::array<char, 512> buf;
-  while (fgets(buf.data(), buf.size(), pipe))
-    output += buf.data();
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 /// Index of the test image an image message shows (-1 if none).
 int imageIndex(const sensor_msgs::Image& image)

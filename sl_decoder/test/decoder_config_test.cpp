@@ -4,51 +4,28 @@
 #include <stdexcept>
 #include <string>
 
+#include <sl_testing/errors.h>
+
 #include "sl_decoder/decoder_config.h"
 
 using namespace sl_decoder;
-
-namespace
-{
-std::string errorOf(const DecoderConfig& c)
-{
-  try
-  {
-    c.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using sl_testing::refusedNaming;
+using sl_testing::validationError;
 
 TEST(DecoderConfig, DefaultsAreValid)
 {
-  EXPECT_EQ(errorOf(DecoderConfig()), "");
+  EXPECT_EQ(validationError(DecoderConfig()), "");
 }
 
 TEST(DecoderConfig, ErrorsNameTheField)
 {
-  DecoderConfig c;
-  c.threshold_window = 14;
-  EXPECT_EQ(errorOf(c).rfind("threshold_window", 0), 0u);
-  c = DecoderConfig();
-  c.max_depth = 0.1;
-  EXPECT_EQ(errorOf(c).rfind("max_depth", 0), 0u);
-  c = DecoderConfig();
-  c.epipolar_tolerance = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(errorOf(c).rfind("epipolar_tolerance", 0), 0u);
-  c = DecoderConfig();
-  c.neighbour_along_max = 0.5;
-  EXPECT_EQ(errorOf(c).rfind("neighbour_along_max", 0), 0u);
-  c = DecoderConfig();
-  c.min_support = 0;
-  EXPECT_EQ(errorOf(c).rfind("min_support", 0), 0u);
-  c = DecoderConfig();
-  c.max_area = 3;
-  EXPECT_EQ(errorOf(c).rfind("max_area", 0), 0u);
+  EXPECT_TRUE(refusedNaming<DecoderConfig>("threshold_window", [](auto& c) { c.threshold_window = 14; }));
+  EXPECT_TRUE(refusedNaming<DecoderConfig>("max_depth", [](auto& c) { c.max_depth = 0.1; }));
+  EXPECT_TRUE(refusedNaming<DecoderConfig>(
+      "epipolar_tolerance", [](auto& c) { c.epipolar_tolerance = std::numeric_limits<double>::quiet_NaN(); }));
+  EXPECT_TRUE(refusedNaming<DecoderConfig>("neighbour_along_max", [](auto& c) { c.neighbour_along_max = 0.5; }));
+  EXPECT_TRUE(refusedNaming<DecoderConfig>("min_support", [](auto& c) { c.min_support = 0; }));
+  EXPECT_TRUE(refusedNaming<DecoderConfig>("max_area", [](auto& c) { c.max_area = 3; }));
 }
 
 TEST(DecoderConfig, DepthModes)

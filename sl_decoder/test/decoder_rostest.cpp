@@ -15,6 +15,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <sl_testing/rostest_main.h>
 
 TEST(DecoderNodelet, WallArrivesInPlatformEdge)
 {
@@ -153,8 +154,5 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "decoder_rostest");
-  ros::NodeHandle nh;
-  return RUN_ALL_TESTS();
+  return sl_testing::runRostests(argc, argv, "decoder_rostest", 0);
 }

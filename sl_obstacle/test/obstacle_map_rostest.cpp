@@ -13,6 +13,7 @@
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <sl_testing/rostest_main.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "sl_obstacle/ObstacleStatus.h"
@@ -147,12 +148,5 @@ TEST_F(ObstacleMap, StopsWithoutOdometryAndNamesAMissingField)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "obstacle_map_rostest");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return sl_testing::runRostests(argc, argv, "obstacle_map_rostest");
 }

@@ -1,17 +1,17 @@
 // Rostest: the nodelet's parameters are read and validated in one place and fail fast.
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <stdexcept>
-#include <string>
-
-#include <ros/ros.h>
-#include <sys/wait.h>
-
 #include <array>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
+
+#include <ros/ros.h>
+#include <sl_testing/errors.h>
+#include <sl_testing/process.h>
+#include <sl_testing/rostest_main.h>
 
 #include "cloud_conversion.h"
 #include "params.h"
@@ -93,60 +93,35 @@ TEST(ObstacleParams, BadValuesFailNamingTheParameter)
 {
   int n = 0;
   auto ns = [&n]() { return "~bad" + std::to_string(n++); };
+  // ~name alone set to value in a fresh namespace: refused, naming it.
+  const auto rejects = [&](const std::string& name, const auto& value)
+  {
+    const std::string space = ns();
+    ros::param::set(space + "/" + name, value);
+    expectRejected(space, name);
+  };
   std::string s;
 
-  s = ns();
-  ros::param::set(s + "/width", -1.0);
-  expectRejected(s, "width");
-  s = ns();
-  ros::param::set(s + "/width", 50.0);
-  expectRejected(s, "width");
-  s = ns();
-  ros::param::set(s + "/depth", 1.5);
-  expectRejected(s, "depth");  // beyond max_range
-  s = ns();
-  ros::param::set(s + "/min_speed", 0.3);
-  expectRejected(s, "min_speed");  // above max_speed
-  s = ns();
-  ros::param::set(s + "/sectors", 0);
-  expectRejected(s, "sectors");
-  s = ns();
-  ros::param::set(s + "/max_turns", 2.5);
-  expectRejected(s, "max_turns");  // wrong type
-  s = ns();
-  ros::param::set(s + "/enabled", std::string("yes"));
-  expectRejected(s, "enabled");
+  rejects("width", -1.0);
+  rejects("width", 50.0);
+  rejects("depth", 1.5);      // beyond max_range
+  rejects("min_speed", 0.3);  // above max_speed
+  rejects("sectors", 0);
+  rejects("max_turns", 2.5);  // wrong type
+  rejects("enabled", std::string("yes"));
   s = ns();
   ros::param::set(s + "/safety_margin", 0.78);
   ros::param::set(s + "/slow_distance", 0.79);
   expectRejected(s, "safety_margin");  // margin + min_goal_distance >= depth
-  s = ns();
-  ros::param::set(s + "/command_mode", std::string("fly"));
-  expectRejected(s, "command_mode");
-  s = ns();
-  ros::param::set(s + "/control_rate", 0.0);
-  expectRejected(s, "control_rate");
-  s = ns();
-  ros::param::set(s + "/target_frame", std::string(""));
-  expectRejected(s, "target_frame");
-  s = ns();
-  ros::param::set(s + "/odom_frame", 3);
-  expectRejected(s, "odom_frame");  // wrong type
-  s = ns();
-  ros::param::set(s + "/map_resolution", 0.5);
-  expectRejected(s, "map_resolution");
-  s = ns();
-  ros::param::set(s + "/map_slices", 0);
-  expectRejected(s, "map_slices");
-  s = ns();
-  ros::param::set(s + "/check_distance", 3.0);
-  expectRejected(s, "check_distance");  // > map_size / 2
-  s = ns();
-  ros::param::set(s + "/deceleration", -1.0);
-  expectRejected(s, "deceleration");
-  s = ns();
-  ros::param::set(s + "/use_map", 1.0);
-  expectRejected(s, "use_map");  // wrong type
+  rejects("command_mode", std::string("fly"));
+  rejects("control_rate", 0.0);
+  rejects("target_frame", std::string(""));
+  rejects("odom_frame", 3);  // wrong type
+  rejects("map_resolution", 0.5);
+  rejects("map_slices", 0);
+  rejects("check_distance", 3.0);  // > map_size / 2
+  rejects("deceleration", -1.0);
+  rejects("use_map", 1.0);  // wrong type
 }
 
 TEST(ObstacleParams, FilterDefaultsEqualTheCoreDefaultsAndBadValuesAreNamed)
@@ -336,13 +311,14 @@ TEST(RayConversion, StateOffsetOutsideThePointIsRefused)
 
 TEST(ObstacleParams, ConfigValidationForReconfigure)
 {
+  const auto error = [](const ObstacleConfig& c) { return sl_testing::invalidArgumentOf([&] { validateConfig(c); }); };
   ObstacleConfig c = ObstacleConfig::__getDefault__();
-  EXPECT_EQ(validateConfig(c), "");
+  EXPECT_EQ(error(c), "");
   c.min_speed = 0.4;
-  EXPECT_EQ(validateConfig(c).rfind("min_speed", 0), 0U) << validateConfig(c);
+  EXPECT_EQ(error(c).rfind("min_speed", 0), 0U) << error(c);
   c = ObstacleConfig::__getDefault__();
   c.cell_size = 0.5;  // above the cfg's maximum
-  EXPECT_EQ(validateConfig(c).rfind("cell_size", 0), 0U) << validateConfig(c);
+  EXPECT_EQ(error(c).rfind("cell_size", 0), 0U) << error(c);
 }
 
 TEST(ObstacleParams, NodeExitsOnABadParameter)
@@ -350,18 +326,11 @@ TEST(ObstacleParams, NodeExitsOnABadParameter)
   // Run the node with a bad private parameter; it must exit with an error that names it.
   const std::string command =
       "timeout 90 rosrun sl_obstacle obstacle_node __name:=obstacle_bad_param _width:=-0.5 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
   std::string output;
-  char buffer[512];
-  while (fgets(buffer, sizeof(buffer), pipe) != nullptr)
-  {
-    output += buffer;
-  }
-  const int status = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status)) << output;
-  EXPECT_NE(WEXITSTATUS(status), 0) << output;
-  EXPECT_NE(WEXITSTATUS(status), 124) << "the node did not exit: " << output;
+  const int status = sl_testing::runShell(command, output);
+  ASSERT_GE(status, 0) << output;
+  EXPECT_NE(status, 0) << output;
+  EXPECT_NE(status, 124) << "the node did not exit: " << output;
   EXPECT_NE(output.find("parameter ~width"), std::string::npos) << output;
 }
 }  // namespace
@@ -369,8 +338,5 @@ TEST(ObstacleParams, NodeExitsOnABadParameter)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "obstacle_params_rostest");
-  ros::NodeHandle nh;
-  return RUN_ALL_TESTS();
+  return sl_testing::runRostests(argc, argv, "obstacle_params_rostest", 0);
 }

@@ -5,26 +5,14 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <sl_testing/errors.h>
+
 #include "sl_projector/pattern.h"
 #include "sl_projector/primitives.h"
 
 using namespace sl_projector;
-
-namespace
-{
-std::string errorOf(const PatternConfig& c)
-{
-  try
-  {
-    c.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using sl_testing::refusedNaming;
+using sl_testing::validationError;
 
 TEST(Pattern, DefaultLayoutIsThePrototypes)
 {
@@ -107,30 +95,18 @@ TEST(Pattern, OtherGeometries)
 
 TEST(Pattern, InvalidConfigurationsNameTheField)
 {
-  PatternConfig c;
-  c.cols = 69;  // 69 * 7 = 483 > 480
-  EXPECT_EQ(errorOf(c).rfind("cols", 0), 0u) << errorOf(c);
-  c = PatternConfig();
-  c.rows = 22;  // 330 > 320
-  EXPECT_EQ(errorOf(c).rfind("rows", 0), 0u) << errorOf(c);
-  c = PatternConfig();
-  c.gap_x = 0;
-  EXPECT_EQ(errorOf(c).rfind("gap_x", 0), 0u);
-  c = PatternConfig();
-  c.primitive_height = 2;
-  EXPECT_EQ(errorOf(c).rfind("primitive_height", 0), 0u);
-  c = PatternConfig();
-  c.offset_x = -1;
-  EXPECT_EQ(errorOf(c).rfind("offset_x", 0), 0u);
-  c = PatternConfig();
-  c.projector_width = 0;
-  EXPECT_EQ(errorOf(c).rfind("projector_width", 0), 0u);
+  EXPECT_TRUE(refusedNaming<PatternConfig>("cols", [](auto& c) { c.cols = 69; }));  // 69 * 7 = 483 > 480
+  EXPECT_TRUE(refusedNaming<PatternConfig>("rows", [](auto& c) { c.rows = 22; }));  // 330 > 320
+  EXPECT_TRUE(refusedNaming<PatternConfig>("gap_x", [](auto& c) { c.gap_x = 0; }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("primitive_height", [](auto& c) { c.primitive_height = 2; }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("offset_x", [](auto& c) { c.offset_x = -1; }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("projector_width", [](auto& c) { c.projector_width = 0; }));
   // Valid geometry but duplicate words: refused by the word table.
-  c = PatternConfig();
+  PatternConfig c;
   c.rows = 19;
   c.primitive_height = 5;
   c.gap_y = 2;
-  EXPECT_EQ(errorOf(c), "");
+  EXPECT_EQ(validationError(c), "");
   EXPECT_THROW(Pattern{ c }, std::invalid_argument);
 }
 
@@ -138,25 +114,21 @@ TEST(Pattern, InvalidConfigurationsNameTheField)
 // validation and made the decoder allocate a 77 GB template.
 TEST(Pattern, HugePrimitivesAndGapsAreRefusedWithoutOverflow)
 {
-  PatternConfig c;
-  c.primitive_width = 2147483647;
-  c.gap_x = 1;
-  EXPECT_EQ(errorOf(c).rfind("primitive_width", 0), 0u) << errorOf(c);
-  c = PatternConfig();
-  c.gap_x = 2147483647;
-  EXPECT_EQ(errorOf(c).rfind("gap_x", 0), 0u) << errorOf(c);
-  c = PatternConfig();
-  c.primitive_height = 2147483647;
-  c.gap_y = 2147483647;
-  EXPECT_EQ(errorOf(c).rfind("primitive_height", 0), 0u) << errorOf(c);
-  c = PatternConfig();
-  c.offset_y = 2147483647;
-  EXPECT_EQ(errorOf(c).rfind("offset_y", 0), 0u) << errorOf(c);
-  c = PatternConfig();
-  c.projector_width = kMaxImageSide + 1;
-  EXPECT_EQ(errorOf(c).rfind("projector_width", 0), 0u) << errorOf(c);
+  EXPECT_TRUE(refusedNaming<PatternConfig>("primitive_width",
+                                           [](auto& c)
+                                           {
+                                             c.primitive_width = 2147483647;
+                                             c.gap_x = 1;
+                                           }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("gap_x", [](auto& c) { c.gap_x = 2147483647; }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("primitive_height",
+                                           [](auto& c)
+                                           {
+                                             c.primitive_height = 2147483647;
+                                             c.gap_y = 2147483647;
+                                           }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("offset_y", [](auto& c) { c.offset_y = 2147483647; }));
+  EXPECT_TRUE(refusedNaming<PatternConfig>("projector_width", [](auto& c) { c.projector_width = kMaxImageSide + 1; }));
   // A primitive as wide as the frame is refused by the layout, not by the bound.
-  c = PatternConfig();
-  c.primitive_width = c.projector_width;
-  EXPECT_EQ(errorOf(c).rfind("cols", 0), 0u) << errorOf(c);
+  EXPECT_TRUE(refusedNaming<PatternConfig>("cols", [](auto& c) { c.primitive_width = c.projector_width; }));
 }

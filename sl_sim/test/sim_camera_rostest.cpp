@@ -5,13 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 #include <ros/ros.h>
@@ -19,28 +16,16 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sl_testing/process.h>
+#include <sl_testing/rostest_main.h>
+#include <sl_testing/wait.h>
 #include <std_msgs/UInt8.h>
+
+using sl_testing::run;
+using sl_testing::waitForMessage;
 
 namespace
 {
-template <typename M>
-typename M::ConstPtr waitFor(const std::string& topic, double timeout)
-{
-  return ros::topic::waitForMessage<M>(topic, ros::Duration(timeout));
-}
-
-int run(const std::string& command, std::string& output)
-{
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe)
-    return -1;
-  std::array<char, 512> buf;
-  while (fgets(buf.data(), buf.size(), pipe))
-    output += buf.data();
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 float centreDepth(const sensor_msgs::Image& depth)
 {
   const size_t offset = (static_cast<size_t>(depth.height / 2) * depth.width + depth.width / 2) * sizeof(float);
@@ -76,20 +61,14 @@ TEST(SimCamera, ImagesArriveWithCameraInfoFromTheRig)
   spinner.start();
   // The first image comes once the projector's (latched) pattern has arrived; the rate itself is
   // checked on a simulated clock (SimCameraClock below).
-  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (ros::WallTime::now() < give_up)
-  {
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (images.size() >= 3)
-        break;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    ASSERT_GE(images.size(), 3u) << "fewer than 3 images on /camera/image_raw";
-  }
+  ASSERT_TRUE(sl_testing::waitUntil(
+      [&]
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        return images.size() >= 3;
+      },
+      60.0, 0.05))
+      << "fewer than 3 images on /camera/image_raw";
 
   std::lock_guard<std::mutex> lock(mutex);
   const sensor_msgs::Image& image = *images.back();
@@ -230,7 +209,7 @@ TEST(SimCameraClock, OneImagePerPeriodOfTheSimulatedClock)
 
 TEST(SimCamera, GroundTruthDepthAndContact)
 {
-  const auto depth = waitFor<sensor_msgs::Image>("/camera/depth/image_raw", 60.0);
+  const auto depth = waitForMessage<sensor_msgs::Image>("/camera/depth/image_raw", 60.0);
   ASSERT_TRUE(depth) << "no depth image";
   EXPECT_EQ(depth->encoding, sensor_msgs::image_encodings::TYPE_32FC1);
   EXPECT_EQ(depth->width, 752u);
@@ -238,12 +217,12 @@ TEST(SimCamera, GroundTruthDepthAndContact)
   EXPECT_EQ(depth->step, 752u * 4u);
   EXPECT_EQ(depth->header.frame_id, "camera_optical_frame");
   EXPECT_NEAR(centreDepth(*depth), 0.700 / std::cos(kYaw), 2e-3);
-  const auto depth_info = waitFor<sensor_msgs::CameraInfo>("/camera/depth/camera_info", 30.0);
+  const auto depth_info = waitForMessage<sensor_msgs::CameraInfo>("/camera/depth/camera_info", 30.0);
   ASSERT_TRUE(depth_info);
   EXPECT_DOUBLE_EQ(depth_info->K[0], 1492.0);
 
   // Contact is published even when nobody asks for images; the plane is far from the bumper.
-  const auto contact = waitFor<std_msgs::UInt8>("/camera/contact", 30.0);
+  const auto contact = waitForMessage<std_msgs::UInt8>("/camera/contact", 30.0);
   ASSERT_TRUE(contact) << "no contact message";
   EXPECT_EQ(contact->data, 0);
 }
@@ -255,7 +234,7 @@ TEST(SimCamera, PoseComesFromTf)
   double z = 0.0;
   while (ros::WallTime::now() < give_up)
   {
-    const auto depth = waitFor<sensor_msgs::Image>("/camera_tf/depth/image_raw", 30.0);
+    const auto depth = waitForMessage<sensor_msgs::Image>("/camera_tf/depth/image_raw", 30.0);
     ASSERT_TRUE(depth) << "no depth image from camera_tf";
     z = centreDepth(*depth);
     // Until the static transforms have arrived the nodelet uses the default pose (700 mm).
@@ -301,8 +280,5 @@ TEST(SimCameraNode, InvalidParametersFailNamingThem)
 
 int main(int argc, char** argv)
 {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "sim_camera_rostest");
-  ros::NodeHandle nh;
-  return RUN_ALL_TESTS();
+  return sl_testing::runRostests(argc, argv, "sim_camera_rostest", 0);
 }

@@ -119,7 +119,7 @@ const PacketInfo* singlePacketInfo(uint8_t id);
 bool isGroupPacket(uint8_t id);
 
 /// @brief True if @p id (single or group) exists on @p model.
-bool isValidPacket(uint8_t id, Model model);
+[[nodiscard]] bool isValidPacket(uint8_t id, Model model);
 
 /// @brief Number of data bytes of a packet (single or group), 0 if unknown on @p model.
 size_t packetSize(uint8_t id, Model model);

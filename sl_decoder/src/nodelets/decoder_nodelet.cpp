@@ -118,8 +118,7 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   d.nominal_depth = sl_params::read(pnh, "nominal_depth", d.nominal_depth);
   // The tunables: cfg/DecoderParams.cfg is their one table (defaults, ranges, descriptions).
   DecoderParamsConfig tunables = DecoderParamsConfig::__getDefault__();
-  for (const auto& description : DecoderParamsConfig::__getParamDescriptions__())
-    sl_params::checkReconfigureType(pnh, description->name, description->type);
+  sl_params::checkReconfigureTypes<DecoderParamsConfig>(pnh);
   ros::NodeHandle server(pnh);
   tunables.__fromServer__(server);
   applyTunables(tunables, d);

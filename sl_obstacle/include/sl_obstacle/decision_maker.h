@@ -35,7 +35,7 @@ struct DecisionParams
   double backoff_speed = 0.08;       ///< back-off speed (m/s)
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 
 /// Decision state (values equal the ObstacleStatus message constants).

@@ -29,7 +29,7 @@ struct NoiseFilterParams
   double persistence_tolerance = 0.05;
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 
 /// What the filter did with one frame's in-box points.

@@ -39,7 +39,7 @@ struct FilterParams
   double stale_timeout = 0.5;  ///< s without a fresh cloud before forward motion stops
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 
 /// Why the filter gave its output.

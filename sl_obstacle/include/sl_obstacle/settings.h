@@ -21,6 +21,6 @@ struct Settings
   double teleop_hold = 2.0;  ///< s a command on cmd_vel_in takes over from autonomy
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 }  // namespace sl_obstacle

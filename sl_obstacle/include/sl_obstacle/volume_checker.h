@@ -23,7 +23,7 @@ struct CheckerParams
   NoiseFilterParams noise;      ///< stray-point rejection
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 
 /// Result for one lateral sector of the box.

@@ -24,7 +24,7 @@ struct WorkingVolume
 
   /// Checks the values. @return an empty string when valid, otherwise a message that starts with the
   /// name of the offending parameter (e.g. "width must be > 0 (got -0.1)").
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 
   /// True when the point lies inside the box (faces inclusive; x = 0 excluded). NaN is never inside.
   bool contains(const Point& p) const;

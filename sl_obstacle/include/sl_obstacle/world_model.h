@@ -37,7 +37,7 @@ struct WorldParams
   double bump_depth = 0.06;         ///< m in front of the bumper marked occupied after a bump
 
   /// @return empty when valid, else a message starting with the offending parameter's name.
-  std::string validate() const;
+  [[nodiscard]] std::string validate() const;
 };
 
 /// @brief What the map says at the robot's current pose. Distances are travel of base_link, m.

@@ -245,7 +245,15 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
     config = config_;
     return;
   }
-  std::string e = validateConfig(config);
+  std::string e;
+  try
+  {
+    validateConfig(config);
+  }
+  catch (const std::invalid_argument& invalid)
+  {
+    e = invalid.what();
+  }
   if (e.empty() && config.use_map != config_.use_map)
   {
     e = "use_map is read at start-up only";

@@ -30,18 +30,25 @@ const Value* findByName(const std::vector<Value>& values, const std::string& nam
   return nullptr;
 }
 
-/// Fails unless the parameter server value of a parameter has the right type (the value itself is
-/// read afterwards, by the caller or __fromServer__).
-void checkType(const ros::NodeHandle& pnh, const std::string& name, const std::string& type)
+/// Runs @p check, a type check of sl_params; its message gets this node's "parameter " prefix.
+template <class F>
+void checkTypes(F check)
 {
   try
   {
-    sl_params::checkReconfigureType(pnh, name, type);
+    check();
   }
   catch (const std::invalid_argument& e)
   {
     throw std::invalid_argument(std::string("parameter ") + e.what());
   }
+}
+
+/// Fails unless the parameter server value of a parameter has the right type (the value itself is
+/// read afterwards, by the caller or __fromServer__).
+void checkType(const ros::NodeHandle& pnh, const std::string& name, const std::string& type)
+{
+  checkTypes([&] { sl_params::checkReconfigureType(pnh, name, type); });
 }
 }  // namespace
 
@@ -115,7 +122,7 @@ bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b)
          a.turn_angle != b.turn_angle || a.floor_margin != b.floor_margin || a.height != b.height;
 }
 
-std::string validateConfig(const ObstacleConfig& config)
+void validateConfig(const ObstacleConfig& config)
 {
   // Ranges of Obstacle.cfg: compare with the clamped copy, parameter by parameter.
   ObstacleConfig clamped = config;
@@ -136,7 +143,7 @@ std::string validateConfig(const ObstacleConfig& config)
       std::ostringstream s;
       s << d.name << " must be in [" << findByName(low.doubles, d.name)->value << ", "
         << findByName(high.doubles, d.name)->value << "] (got " << d.value << ")";
-      return s.str();
+      throw std::invalid_argument(s.str());
     }
   }
   for (const auto& i : given.ints)
@@ -147,10 +154,12 @@ std::string validateConfig(const ObstacleConfig& config)
       std::ostringstream s;
       s << i.name << " must be in [" << findByName(low.ints, i.name)->value << ", "
         << findByName(high.ints, i.name)->value << "] (got " << i.value << ")";
-      return s.str();
+      throw std::invalid_argument(s.str());
     }
   }
-  return toSettings(config).validate();
+  const std::string e = toSettings(config).validate();
+  if (!e.empty())
+    throw std::invalid_argument(e);
 }
 
 namespace
@@ -202,16 +211,16 @@ NodeletParams loadParams(const ros::NodeHandle& pnh)
   }
 
   p.config = ObstacleConfig::__getDefault__();
-  for (const auto& description : ObstacleConfig::__getParamDescriptions__())
-  {
-    checkType(pnh, description->name, description->type);
-  }
+  checkTypes([&] { sl_params::checkReconfigureTypes<ObstacleConfig>(pnh); });
   ros::NodeHandle copy(pnh);
   p.config.__fromServer__(copy);
-  const std::string e = validateConfig(p.config);
-  if (!e.empty())
+  try
   {
-    fail(e);
+    validateConfig(p.config);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    fail(e.what());
   }
   p.settings = toSettings(p.config);
   if (p.command_mode == CommandMode::FILTER && !p.config.use_map)

@@ -38,8 +38,8 @@ Settings toSettings(const ObstacleConfig& config);
 bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b);
 
 /// Checks a reconfigurable configuration: every value inside its Obstacle.cfg range and the core's
-/// rules (Settings::validate). @return empty when valid, else "<name> ..." naming the parameter.
-std::string validateConfig(const ObstacleConfig& config);
+/// rules (Settings::validate). @throws std::invalid_argument "<name> ..." naming the parameter.
+void validateConfig(const ObstacleConfig& config);
 
 /// Reads every private parameter of @p pnh (defaults from Obstacle.cfg), checks types, ranges and
 /// relations. @throws std::invalid_argument with a message "parameter ~<name>: ..." on the first

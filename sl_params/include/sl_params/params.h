@@ -24,7 +24,7 @@ namespace sl_params
 {
 
 /// @brief The parameter's name as messages show it (the nodelets read private parameters: `~name`).
-inline std::string displayName(const ros::NodeHandle& /*nh*/, const std::string& name)
+inline std::string displayName(const std::string& name)
 {
   return "~" + name;
 }
@@ -171,7 +171,7 @@ bool readIfSet(const ros::NodeHandle& nh, const std::string& name, T& out)
   if (!nh.getParam(name, v))
     return false;
   if (!detail::convert(v, out))
-    throw std::invalid_argument(displayName(nh, name) + " must be " + detail::refusal<T>(v));
+    throw std::invalid_argument(displayName(name) + " must be " + detail::refusal<T>(v));
   return true;
 }
 
@@ -187,13 +187,13 @@ bool readIfSetRenamed(const ros::NodeHandle& nh, const std::string& name, const 
   if (readIfSet(nh, name, out))
   {
     if (nh.hasParam(old_name))
-      ROS_WARN("%s is set too and ignored: it is the deprecated former name of %s (%s)",
-               displayName(nh, old_name).c_str(), displayName(nh, name).c_str(), nh.getNamespace().c_str());
+      ROS_WARN("%s is set too and ignored: it is the deprecated former name of %s (%s)", displayName(old_name).c_str(),
+               displayName(name).c_str(), nh.getNamespace().c_str());
     return true;
   }
   if (!readIfSet(nh, old_name, out))
     return false;
-  ROS_WARN("%s is deprecated: use %s (%s)", displayName(nh, old_name).c_str(), displayName(nh, name).c_str(),
+  ROS_WARN("%s is deprecated: use %s (%s)", displayName(old_name).c_str(), displayName(name).c_str(),
            nh.getNamespace().c_str());
   return true;
 }
@@ -226,7 +226,7 @@ T required(const ros::NodeHandle& nh, const std::string& name)
 {
   T value{};
   if (!readIfSet(nh, name, value))
-    throw std::invalid_argument(displayName(nh, name) + " is required (" + detail::expected<T>() + ")");
+    throw std::invalid_argument(displayName(name) + " is required (" + detail::expected<T>() + ")");
   return value;
 }
 
@@ -242,7 +242,7 @@ T readInRange(const ros::NodeHandle& nh, const std::string& name, const T& fallb
   if (!(value >= lo && value <= hi))
   {
     std::ostringstream s;
-    s << displayName(nh, name) << " must be in [" << lo << ", " << hi << "], got " << value;
+    s << displayName(name) << " must be in [" << lo << ", " << hi << "], got " << value;
     throw std::invalid_argument(s.str());
   }
   return value;
@@ -276,6 +276,18 @@ inline void checkReconfigureType(const ros::NodeHandle& nh, const std::string& n
     std::string v;
     readIfSet(nh, name, v);
   }
+}
+
+/**
+ * @brief checkReconfigureType() for every parameter of a generated dynamic_reconfigure @p Config
+ * (its `__getParamDescriptions__()`), before `__fromServer__` reads them.
+ * @throws std::invalid_argument naming the first parameter of a wrong type.
+ */
+template <class Config>
+void checkReconfigureTypes(const ros::NodeHandle& nh)
+{
+  for (const auto& description : Config::__getParamDescriptions__())
+    checkReconfigureType(nh, description->name, description->type);
 }
 
 }  // namespace sl_params

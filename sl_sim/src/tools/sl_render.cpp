@@ -17,6 +17,7 @@
 #include "sl_sim/sim_settings.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/rig.h"
+#include "sl_projector/tool_args.h"
 
 namespace
 {
@@ -49,6 +50,47 @@ bool parseNumber(const std::string& text, double& value)
   return !text.empty() && end && *end == '\0';
 }
 
+/// --pose X,Y,YAW.
+Eigen::Vector3d parsePose(const std::string& v)
+{
+  const std::invalid_argument refusal("--pose needs three numbers X,Y,YAW, got '" + v + "'");
+  std::stringstream ss(v);
+  std::string part;
+  std::vector<double> p;
+  while (std::getline(ss, part, ','))
+  {
+    double x;
+    if (!parseNumber(part, x))
+      throw refusal;
+    p.push_back(x);
+  }
+  if (p.size() != 3)
+    throw refusal;
+  return Eigen::Vector3d(p[0], p[1], p[2]);
+}
+
+/// --set NAME=VALUE: a number, or true/false.
+void parseSet(const std::string& v, sl_sim::SimSettings& settings)
+{
+  const size_t eq = v.find('=');
+  double x;
+  std::string text = eq == std::string::npos ? "" : v.substr(eq + 1);
+  if (text == "true")
+    text = "1";
+  else if (text == "false")
+    text = "0";
+  if (eq == std::string::npos || !parseNumber(text, x))
+    throw std::invalid_argument("--set needs NAME=VALUE with a number (or true/false), got '" + v + "'");
+  try
+  {
+    sl_sim::setSimSetting(settings, v.substr(0, eq), x);
+  }
+  catch (const std::exception& e)
+  {
+    throw std::invalid_argument(std::string("--set: ") + e.what());
+  }
+}
+
 void listSettings()
 {
   const sl_sim::SimSettings defaults;
@@ -74,117 +116,51 @@ int main(int argc, char** argv)
   uint64_t seed = 0;
   sl_sim::SimSettings settings;
   Eigen::Vector3d pose(0.0, 0.0, 0.0);
-  std::vector<std::string> args(argv + 1, argv + argc);
-  for (size_t i = 0; i < args.size(); ++i)
+  try
   {
-    const std::string& a = args[i];
-    auto value = [&](std::string& target)
+    sl_projector::ToolArgs args(argc, argv);
+    for (std::string a; args.next(a);)
     {
-      if (i + 1 >= args.size())
-        return false;
-      target = args[++i];
-      return true;
-    };
-    std::string v;
-    if (a == "--help" || a == "-h")
-    {
-      std::cout << kUsage;
-      return 0;
-    }
-    else if (a == "--list-settings")
-    {
-      listSettings();
-      return 0;
-    }
-    else if (a == "--rig")
-    {
-      if (!value(rig_path))
-        return usageError("--rig needs a file");
-    }
-    else if (a == "--scene")
-    {
-      if (!value(scene_path))
-        return usageError("--scene needs a file");
-    }
-    else if (a == "--out")
-    {
-      if (!value(out_path))
-        return usageError("--out needs a file");
-    }
-    else if (a == "--pattern")
-    {
-      if (!value(pattern_path))
-        return usageError("--pattern needs a file");
-    }
-    else if (a == "--depth-out")
-    {
-      if (!value(depth_path))
-        return usageError("--depth-out needs a file");
-    }
-    else if (a == "--coords-out")
-    {
-      if (!value(coords_path))
-        return usageError("--coords-out needs a file");
-    }
-    else if (a == "--seed")
-    {
-      double s;
-      if (!value(v) || !parseNumber(v, s) || s < 0.0 || s != std::floor(s) || s > 1.8e19)
-        return usageError("--seed needs a non-negative integer");
-      seed = static_cast<uint64_t>(std::stoull(v));
-    }
-    else if (a == "--ambient")
-    {
-      double x;
-      if (!value(v) || !parseNumber(v, x))
-        return usageError("--ambient needs a number");
-      settings.ambient = x;
-    }
-    else if (a == "--pose")
-    {
-      if (!value(v))
-        return usageError("--pose needs X,Y,YAW");
-      std::stringstream ss(v);
-      std::string part;
-      std::vector<double> p;
-      while (std::getline(ss, part, ','))
+      if (a == "--help" || a == "-h")
       {
-        double x;
-        if (!parseNumber(part, x))
-          return usageError("--pose needs three numbers X,Y,YAW, got '" + v + "'");
-        p.push_back(x);
+        std::cout << kUsage;
+        return 0;
       }
-      if (p.size() != 3)
-        return usageError("--pose needs three numbers X,Y,YAW, got '" + v + "'");
-      pose = Eigen::Vector3d(p[0], p[1], p[2]);
-    }
-    else if (a == "--set")
-    {
-      if (!value(v))
-        return usageError("--set needs NAME=VALUE");
-      const size_t eq = v.find('=');
-      double x;
-      std::string text = eq == std::string::npos ? "" : v.substr(eq + 1);
-      if (text == "true")
-        text = "1";
-      else if (text == "false")
-        text = "0";
-      if (eq == std::string::npos || !parseNumber(text, x))
-        return usageError("--set needs NAME=VALUE with a number (or true/false), got '" + v + "'");
-      try
+      else if (a == "--list-settings")
       {
-        sl_sim::setSimSetting(settings, v.substr(0, eq), x);
+        listSettings();
+        return 0;
       }
-      catch (const std::exception& e)
-      {
-        return usageError(std::string("--set: ") + e.what());
-      }
+      else if (a == "--rig")
+        rig_path = args.value();
+      else if (a == "--scene")
+        scene_path = args.value();
+      else if (a == "--out")
+        out_path = args.value();
+      else if (a == "--pattern")
+        pattern_path = args.value();
+      else if (a == "--depth-out")
+        depth_path = args.value();
+      else if (a == "--coords-out")
+        coords_path = args.value();
+      else if (a == "--seed")
+        seed = static_cast<uint64_t>(args.integer(0));
+      else if (a == "--ambient")
+        settings.ambient = args.number();
+      else if (a == "--pose")
+        pose = parsePose(args.value());
+      else if (a == "--set")
+        parseSet(args.value(), settings);
+      else
+        args.unknown();
     }
-    else
-      return usageError("unknown argument '" + a + "'");
+    if (rig_path.empty() || scene_path.empty() || out_path.empty())
+      throw std::invalid_argument("--rig, --scene and --out are required");
   }
-  if (rig_path.empty() || scene_path.empty() || out_path.empty())
-    return usageError("--rig, --scene and --out are required");
+  catch (const std::invalid_argument& e)
+  {
+    return usageError(e.what());
+  }
 
   try
   {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "sl_sim/renderer.h"
@@ -30,7 +31,7 @@ const char* kUsage =
     "  --pattern FILE      the projector frame (grey image of the projector's size); default: the\n"
     "                      rig's own pattern\n"
     "  --depth-out FILE    ground-truth depth, 32-bit float TIFF (camera z, m; NaN: nothing)\n"
-    "  --coords-out FILE   projector pixel per camera pixel, 2-channel 32-bit float TIFF (NaN: unlit)\n"
+    "  --coords-out FILE   projector pixel per camera pixel, 3-channel 32-bit float TIFF (x, y, 0; NaN: unlit)\n"
     "  --seed N            noise seed (default 0); the same seed gives the same image\n"
     "  --ambient X         ambient light (same as --set ambient=X)\n"
     "  --pose X,Y,YAW      pose of the robot's platform_edge frame in the world, m and rad (default 0,0,0)\n"
@@ -107,6 +108,18 @@ void listSettings()
     std::cout << std::left << std::setw(26) << info.name << std::setw(12) << value.str() << std::setw(14) << info.unit
               << info.description << "\n";
   }
+}
+
+/// Writes the 2-channel projector coordinates as a 3-channel float image (x, y, 0): image writers
+/// take 1, 3 or 4 channels, not 2.
+bool writeCoords(const std::string& path, const cv::Mat& coords)
+{
+  std::vector<cv::Mat> channels;
+  cv::split(coords, channels);
+  channels.push_back(cv::Mat::zeros(coords.size(), CV_32F));
+  cv::Mat out;
+  cv::merge(channels, out);
+  return cv::imwrite(path, out);
 }
 }  // namespace
 
@@ -197,7 +210,7 @@ int main(int argc, char** argv)
       throw std::runtime_error(out_path + ": cannot write the image");
     if (!depth_path.empty() && !cv::imwrite(depth_path, out.depth))
       throw std::runtime_error(depth_path + ": cannot write the depth image (use .tiff)");
-    if (!coords_path.empty() && !cv::imwrite(coords_path, out.projector_coords))
+    if (!coords_path.empty() && !writeCoords(coords_path, out.projector_coords))
       throw std::runtime_error(coords_path + ": cannot write the projector coordinates (use .tiff)");
   }
   catch (const std::exception& e)

@@ -24,9 +24,23 @@ constexpr int kMaxCellsPerSide = 4096;
 constexpr std::size_t kMaxVoxels = std::size_t(1) << 25;
 // Lattice indices are clamped to this so that window arithmetic never overflows an int.
 constexpr double kMaxIndex = 1e9;
-// A free ray lowers a cell that holds hits only if it passes within this fraction of a cell of the
-// box around them (hits scatter by depth noise; a moved object must still be forgotten).
-constexpr double kExtentMargin = 0.25;
+// A free ray lowers a cell that holds hits only if it passes through the box around them shrunk by
+// this fraction of a cell on each side: a ray grazing a round object crosses the corners of the box
+// of its seen face, never the middle (a box corner lies inside a cylinder of radius up to
+// kExtentInset / (1 - 1/sqrt(2)), 17 mm in 2 cm cells; larger objects span several cells).
+constexpr double kExtentInset = 0.25;
+// ... but never narrower than this fraction of a cell on each side of the box's middle: the decoded
+// points are sub-millimetre exact, so a ray this close to the place of a thin object's hits passes
+// where the object was, and a moved object must still be forgotten.
+constexpr double kExtentTolerance = 0.05;
+
+/// [lo, hi] (cell fractions) shrunk by kExtentInset, but at least kExtentTolerance around its middle.
+void innerRange(double lo, double hi, double& inner_lo, double& inner_hi)
+{
+  const double mid = 0.5 * (lo + hi);
+  inner_lo = std::min(lo + kExtentInset, mid - kExtentTolerance);
+  inner_hi = std::max(hi - kExtentInset, mid + kExtentTolerance);
+}
 
 void fail(const std::string& message)
 {
@@ -282,11 +296,13 @@ bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, do
   {
     return true;  // no hit in this cell: every ray through it counts
   }
-  // The piece of the ray inside the cell, in cell units from its lower left corner, against the box
-  // around the cell's hits grown by the margin.
+  // The piece of the ray inside the cell, in cell units from its lower left corner, against the
+  // middle of the box around the cell's hits.
+  double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
+  innerRange(e.x0 / 255.0, e.x1 / 255.0, x0, x1);
+  innerRange(e.y0 / 255.0, e.y1 / 255.0, y0, y1);
   double t0 = 0.0, t1 = dt;
-  return clipSlab(fx, dfx, e.x0 / 255.0 - kExtentMargin, e.x1 / 255.0 + kExtentMargin, t0, t1) &&
-         clipSlab(fy, dfy, e.y0 / 255.0 - kExtentMargin, e.y1 / 255.0 + kExtentMargin, t0, t1);
+  return clipSlab(fx, dfx, x0, x1, t0, t1) && clipSlab(fy, dfy, y0, y1, t0, t1);
 }
 
 void LocalMap::traverse(const MapRay& r)

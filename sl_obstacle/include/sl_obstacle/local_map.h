@@ -97,8 +97,10 @@ public:
 
   /// Inserts one cloud's rays taken at @p stamp (s). Free parts lower the log-odds of every slice
   /// they cross inside the band (3D traversal: Amanatides-Woo in x-y, z interpolated), except in a
-  /// cell that holds hits, where only a ray passing through the box around those hits (grown by a
-  /// quarter cell) counts: a ray beside a thin obstacle in the same cell says nothing about it. Hit ends
+  /// cell that holds hits, where only a ray passing through the middle of the box around those hits
+  /// (shrunk by a quarter cell, but at least a twentieth of a cell either side of its centre) counts:
+  /// a ray beside a thin obstacle in the same cell, or grazing its flank from another side, says
+  /// nothing about it. Hit ends
   /// inside the band raise their slice by `hit`, Suspect ends by `suspect`; within one batch a
   /// slice changes once: occupied beats suspect beats free where two or more Suspect rays end in
   /// the voxel, and free beats a lone Suspect end. Rays are clipped to the window; rays with a non-finite
@@ -177,7 +179,7 @@ private:
   void growExtent(const MapRay& r);
   /// True if the piece of a ray inside @p cell (from (fx, fy) in cell units from the cell's lower
   /// left corner, direction (dfx, dfy) per unit of the ray parameter, for @p dt of it) passes through
-  /// the box around the cell's hits grown by a margin, or if the cell holds no hit.
+  /// the middle of the box around the cell's hits, or if the cell holds no hit.
   bool passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const;
   /// Forgets the hit extent of @p cell once no slice holds positive log-odds.
   void forgetExtentIfEmpty(std::size_t cell);

@@ -112,6 +112,7 @@ private:
   ros::Time map_published_;
   bool have_frame_ = false;
   ros::Time last_cloud_stamp_;
+  ros::Time map_stamp_;  // stamp of the newest ray cloud in the map
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
@@ -410,6 +411,8 @@ void ObstacleNodelet::insertRays(const Cloud::ConstPtr& rays, const Cloud::Const
     NODELET_WARN_THROTTLE(10.0, "points cloud adds no rays to the map: %s", e.c_str());
   }
   world_->addRays(rays_, rays->header.stamp.toSec());
+  map_stamp_ = rays->header.stamp;
+  decide(ros::Time::now());  // the plan on the updated map (the stop check on the cloud came first)
 }
 
 void ObstacleNodelet::onHazards(const sl_msgs::Hazards& msg)
@@ -842,6 +845,7 @@ void ObstacleNodelet::publishStatus(const Decision* d, const ros::Time& now)
     s.cloud_stamp = ros::Time();
     s.data_age = std::numeric_limits<double>::infinity();
   }
+  s.map_stamp = map_stamp_;
   const VolumeResult& r = checker_->result();
   s.nearest_distance = have_frame_ ? r.nearest_distance : std::numeric_limits<double>::infinity();
   s.nearest_point.x = r.nearest_point.x;

@@ -28,14 +28,6 @@ constexpr double kMaxIndex = 1e9;
 // box around them (hits scatter by depth noise; a moved object must still be forgotten).
 constexpr double kExtentMargin = 0.25;
 
-void fail(const std::string& message)
-{
-  if (!message.empty())
-  {
-    throw std::invalid_argument(message);
-  }
-}
-
 /// "<name> must be in (lo, hi] (got v)" unless lo < v <= hi.
 std::string openClosed(const char* name, double v, double lo, double hi)
 {
@@ -76,6 +68,7 @@ bool clipSlab(double p0, double d, double lo, double hi, double& t0, double& t1)
 
 void MapParams::validate() const
 {
+  using detail::fail;
   fail(openClosed("map_size", size, 0.0, 100.0));
   fail(openClosed("map_resolution", resolution, 0.005, 0.2));
   const double cells = std::round(size / resolution);

@@ -10,50 +10,46 @@
 
 namespace sl_obstacle
 {
-std::string DecisionParams::validate() const
+void DecisionParams::validate() const
 {
-  std::string e;
-  if (!(e = detail::inRange("safety_margin", safety_margin, 0.0, 5.0)).empty() ||
-      !(e = detail::inRange("min_goal_distance", min_goal_distance, 1e-3, 5.0)).empty() ||
-      !(e = detail::inRange("slow_distance", slow_distance, 0.0, 20.0)).empty() ||
-      !(e = detail::inRange("max_speed", max_speed, 1e-3, 0.5)).empty() ||
-      !(e = detail::inRange("min_speed", min_speed, 1e-3, 0.5)).empty() ||
-      !(e = detail::inRange("min_coverage", min_coverage, 0.0, 1.0)).empty() ||
-      !(e = detail::inRange("full_speed_coverage", full_speed_coverage, 0.0, 1.0)).empty() ||
-      !(e = detail::inRange("stale_timeout", stale_timeout, 1e-3, 60.0)).empty() ||
-      !(e = detail::inRange("preempt_tolerance", preempt_tolerance, 0.0, 1.0)).empty() ||
-      !(e = detail::inRange("replan_distance", replan_distance, 0.0, 5.0)).empty() ||
-      !(e = detail::inRange("speed_tolerance", speed_tolerance, 0.0, 0.5)).empty() ||
-      !(e = detail::inRange("turn_speed", turn_speed, 1e-3, 2.0)).empty() ||
-      !(e = detail::inRange("turn_angle", turn_angle, 1e-3, 2.0 * M_PI)).empty() ||
-      !(e = detail::inRange("settle_time", settle_time, 0.0, 10.0)).empty() ||
-      !(e = detail::inRange("deceleration", deceleration, 0.0, 10.0)).empty() ||
-      !(e = detail::inRange("backoff_distance", backoff_distance, 0.01, 2.0)).empty() ||
-      !(e = detail::inRange("backoff_speed", backoff_speed, 0.01, 0.5)).empty())
-  {
-    return e;
-  }
+  using detail::requireInRange;
+  requireInRange("safety_margin", safety_margin, 0.0, 5.0);
+  requireInRange("min_goal_distance", min_goal_distance, 1e-3, 5.0);
+  requireInRange("slow_distance", slow_distance, 0.0, 20.0);
+  requireInRange("max_speed", max_speed, 1e-3, 0.5);
+  requireInRange("min_speed", min_speed, 1e-3, 0.5);
+  requireInRange("min_coverage", min_coverage, 0.0, 1.0);
+  requireInRange("full_speed_coverage", full_speed_coverage, 0.0, 1.0);
+  requireInRange("stale_timeout", stale_timeout, 1e-3, 60.0);
+  requireInRange("preempt_tolerance", preempt_tolerance, 0.0, 1.0);
+  requireInRange("replan_distance", replan_distance, 0.0, 5.0);
+  requireInRange("speed_tolerance", speed_tolerance, 0.0, 0.5);
+  requireInRange("turn_speed", turn_speed, 1e-3, 2.0);
+  requireInRange("turn_angle", turn_angle, 1e-3, 2.0 * M_PI);
+  requireInRange("settle_time", settle_time, 0.0, 10.0);
+  requireInRange("deceleration", deceleration, 0.0, 10.0);
+  requireInRange("backoff_distance", backoff_distance, 0.01, 2.0);
+  requireInRange("backoff_speed", backoff_speed, 0.01, 0.5);
   if (slow_distance <= safety_margin)
   {
-    return detail::complaint("slow_distance", "must be greater than safety_margin", slow_distance);
+    detail::refuse("slow_distance", "must be greater than safety_margin", slow_distance);
   }
   if (min_speed > max_speed)
   {
-    return detail::complaint("min_speed", "must not exceed max_speed", min_speed);
+    detail::refuse("min_speed", "must not exceed max_speed", min_speed);
   }
   if (full_speed_coverage < min_coverage)
   {
-    return detail::complaint("full_speed_coverage", "must not be below min_coverage", full_speed_coverage);
+    detail::refuse("full_speed_coverage", "must not be below min_coverage", full_speed_coverage);
   }
   if (max_turns < 0 || max_turns > 1000)
   {
-    return detail::complaint("max_turns", "must be in [0, 1000]", max_turns);
+    detail::refuse("max_turns", "must be in [0, 1000]", max_turns);
   }
   if (max_backoffs < 0 || max_backoffs > 100)
   {
-    return detail::complaint("max_backoffs", "must be in [0, 100]", max_backoffs);
+    detail::refuse("max_backoffs", "must be in [0, 100]", max_backoffs);
   }
-  return std::string();
 }
 
 const char* toString(State state)
@@ -174,11 +170,7 @@ DecisionMaker::DecisionMaker(const DecisionParams& params)
 
 void DecisionMaker::setParams(const DecisionParams& params)
 {
-  const std::string e = params.validate();
-  if (!e.empty())
-  {
-    throw std::invalid_argument(e);
-  }
+  params.validate();
   params_ = params;
 }
 

@@ -42,14 +42,6 @@ void innerRange(double lo, double hi, double& inner_lo, double& inner_hi)
   inner_hi = std::max(hi - kExtentInset, mid + kExtentTolerance);
 }
 
-void fail(const std::string& message)
-{
-  if (!message.empty())
-  {
-    throw std::invalid_argument(message);
-  }
-}
-
 /// "<name> must be in (lo, hi] (got v)" unless lo < v <= hi.
 std::string openClosed(const char* name, double v, double lo, double hi)
 {
@@ -90,6 +82,7 @@ bool clipSlab(double p0, double d, double lo, double hi, double& t0, double& t1)
 
 void MapParams::validate() const
 {
+  using detail::fail;
   fail(openClosed("map_size", size, 0.0, 100.0));
   fail(openClosed("map_resolution", resolution, 0.005, 0.2));
   const double cells = std::round(size / resolution);

@@ -10,23 +10,18 @@
 
 namespace sl_obstacle
 {
-std::string NoiseFilterParams::validate() const
+void NoiseFilterParams::validate() const
 {
-  std::string e;
   if (min_cluster_size < 1 || min_cluster_size > 1000)
   {
-    return detail::complaint("min_cluster_size", "must be in [1, 1000]", min_cluster_size);
+    detail::refuse("min_cluster_size", "must be in [1, 1000]", min_cluster_size);
   }
   if (persistence_frames < 1 || persistence_frames > 100)
   {
-    return detail::complaint("persistence_frames", "must be in [1, 100]", persistence_frames);
+    detail::refuse("persistence_frames", "must be in [1, 100]", persistence_frames);
   }
-  if (!(e = detail::inRange("cluster_tolerance", cluster_tolerance, 1e-4, 1.0)).empty() ||
-      !(e = detail::inRange("persistence_tolerance", persistence_tolerance, 0.0, 1.0)).empty())
-  {
-    return e;
-  }
-  return std::string();
+  detail::requireInRange("cluster_tolerance", cluster_tolerance, 1e-4, 1.0);
+  detail::requireInRange("persistence_tolerance", persistence_tolerance, 0.0, 1.0);
 }
 
 NoiseFilter::NoiseFilter()
@@ -36,19 +31,9 @@ NoiseFilter::NoiseFilter()
 
 void NoiseFilter::configure(const NoiseFilterParams& params, const WorkingVolume& volume, double cell_size)
 {
-  std::string e = params.validate();
-  if (e.empty())
-  {
-    e = volume.validate();
-  }
-  if (e.empty())
-  {
-    e = detail::inRange("cell_size", cell_size, 1e-3, 1.0);
-  }
-  if (!e.empty())
-  {
-    throw std::invalid_argument(e);
-  }
+  params.validate();
+  volume.validate();
+  detail::requireInRange("cell_size", cell_size, 1e-3, 1.0);
   params_ = params;
   volume_ = volume;
   cell_size_ = cell_size;

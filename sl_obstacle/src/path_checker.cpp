@@ -106,12 +106,8 @@ void account(CellState state, double entry, PathResult& out, int& known)
 
 void FootprintParams::validate() const
 {
-  std::string e;
-  if (!(e = detail::inRange("radius", radius, 1e-3, 2.0)).empty() ||
-      !(e = detail::inRange("lateral_margin", lateral_margin, 0.0, 1.0)).empty())
-  {
-    throw std::invalid_argument(e);
-  }
+  detail::requireInRange("radius", radius, 1e-3, 2.0);
+  detail::requireInRange("lateral_margin", lateral_margin, 0.0, 1.0);
 }
 
 PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, int direction,

@@ -68,26 +68,14 @@ double speedFor(double travel, double deceleration)
 }
 }  // namespace
 
-std::string FilterParams::validate() const
+void FilterParams::validate() const
 {
-  try
-  {
-    footprint.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  std::string e;
-  if (!(e = detail::inRange("safety_margin", clearance, 0.0, 2.0)).empty() ||
-      !(e = detail::inRange("deceleration", deceleration, 0.0, 10.0)).empty() ||
-      !(e = detail::inRange("check_distance", horizon, 0.1, 10.0)).empty() ||
-      !(e = detail::inRange("input_timeout", input_timeout, 0.01, 60.0)).empty() ||
-      !(e = detail::inRange("stale_timeout", stale_timeout, 0.01, 60.0)).empty())
-  {
-    return e;
-  }
-  return std::string();
+  footprint.validate();
+  detail::requireInRange("safety_margin", clearance, 0.0, 2.0);
+  detail::requireInRange("deceleration", deceleration, 0.0, 10.0);
+  detail::requireInRange("check_distance", horizon, 0.1, 10.0);
+  detail::requireInRange("input_timeout", input_timeout, 0.01, 60.0);
+  detail::requireInRange("stale_timeout", stale_timeout, 0.01, 60.0);
 }
 
 const char* toString(FilterReason reason)
@@ -230,11 +218,7 @@ double arcContact(const std::vector<Point2>& points, double radius, int directio
 
 SafetyFilter::SafetyFilter(const FilterParams& params) : params_(params)
 {
-  const std::string e = params_.validate();
-  if (!e.empty())
-  {
-    throw std::invalid_argument(e);
-  }
+  params_.validate();
 }
 
 double SafetyFilter::travel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const

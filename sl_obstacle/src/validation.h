@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace sl_obstacle
@@ -40,6 +41,28 @@ inline std::string inRange(const char* name, double value, double lo, double hi)
   std::ostringstream rule;
   rule << "must be in [" << lo << ", " << hi << "]";
   return complaint(name, rule.str().c_str(), value);
+}
+
+/// Throws std::invalid_argument(message) unless message is empty.
+inline void fail(const std::string& message)
+{
+  if (!message.empty())
+  {
+    throw std::invalid_argument(message);
+  }
+}
+
+/// Throws std::invalid_argument("<name> <rule> (got <value>)").
+template <typename T>
+[[noreturn]] void refuse(const char* name, const char* rule, T value)
+{
+  throw std::invalid_argument(complaint(name, rule, value));
+}
+
+/// Throws unless lo <= value <= hi (and finite).
+inline void requireInRange(const char* name, double value, double lo, double hi)
+{
+  fail(inRange(name, value, lo, hi));
 }
 }  // namespace detail
 }  // namespace sl_obstacle

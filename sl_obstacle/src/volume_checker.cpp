@@ -9,27 +9,20 @@
 
 namespace sl_obstacle
 {
-std::string CheckerParams::validate() const
+void CheckerParams::validate() const
 {
-  std::string e = volume.validate();
-  if (!e.empty())
-  {
-    return e;
-  }
+  volume.validate();
   if (sectors < 1 || sectors > 64)
   {
-    return detail::complaint("sectors", "must be in [1, 64]", sectors);
+    detail::refuse("sectors", "must be in [1, 64]", sectors);
   }
-  if (!(e = detail::inRange("cell_size", cell_size, 1e-3, 1.0)).empty() ||
-      !(e = detail::inRange("min_confidence", min_confidence, 0.0, 1e6)).empty())
-  {
-    return e;
-  }
+  detail::requireInRange("cell_size", cell_size, 1e-3, 1.0);
+  detail::requireInRange("min_confidence", min_confidence, 0.0, 1e6);
   if (cell_size > volume.width || cell_size > volume.height)
   {
-    return detail::complaint("cell_size", "must not exceed width or height", cell_size);
+    detail::refuse("cell_size", "must not exceed width or height", cell_size);
   }
-  return noise.validate();
+  noise.validate();
 }
 
 VolumeChecker::VolumeChecker(const CheckerParams& params)
@@ -39,11 +32,7 @@ VolumeChecker::VolumeChecker(const CheckerParams& params)
 
 void VolumeChecker::setParams(const CheckerParams& params)
 {
-  const std::string e = params.validate();
-  if (!e.empty())
-  {
-    throw std::invalid_argument(e);
-  }
+  params.validate();
   filter_.configure(params.noise, params.volume, params.cell_size);
   params_ = params;
 

@@ -6,27 +6,22 @@
 
 namespace sl_obstacle
 {
-std::string WorkingVolume::validate() const
+void WorkingVolume::validate() const
 {
-  using detail::complaint;
-  std::string e;
-  if (!(e = detail::inRange("width", width, 1e-3, 5.0)).empty() ||
-      !(e = detail::inRange("height", height, 1e-3, 5.0)).empty() ||
-      !(e = detail::inRange("depth", depth, 1e-3, 20.0)).empty() ||
-      !(e = detail::inRange("floor_margin", floor_margin, 0.0, 1.0)).empty() ||
-      !(e = detail::inRange("max_range", max_range, 1e-3, 20.0)).empty())
-  {
-    return e;
-  }
+  using detail::requireInRange;
+  requireInRange("width", width, 1e-3, 5.0);
+  requireInRange("height", height, 1e-3, 5.0);
+  requireInRange("depth", depth, 1e-3, 20.0);
+  requireInRange("floor_margin", floor_margin, 0.0, 1.0);
+  requireInRange("max_range", max_range, 1e-3, 20.0);
   if (floor_margin >= height)
   {
-    return complaint("floor_margin", "must be below height", floor_margin);
+    detail::refuse("floor_margin", "must be below height", floor_margin);
   }
   if (depth > max_range)
   {
-    return complaint("depth", "must not exceed max_range", depth);
+    detail::refuse("depth", "must not exceed max_range", depth);
   }
-  return std::string();
 }
 
 bool WorkingVolume::contains(const Point& p) const

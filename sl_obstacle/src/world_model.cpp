@@ -8,46 +8,30 @@
 
 namespace sl_obstacle
 {
-std::string WorldParams::validate() const
+void WorldParams::validate() const
 {
-  try
-  {
-    map.validate();
-    footprint.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  std::string e;
-  if (!(e = detail::inRange("start_free_radius", start_free_radius, 0.0, 2.0)).empty() ||
-      !(e = detail::inRange("check_distance", check_distance, 0.1, 10.0)).empty() ||
-      !(e = detail::inRange("heading_step", heading_step, 0.01, 2.0 * M_PI)).empty() ||
-      !(e = detail::inRange("bump_depth", bump_depth, 0.0, 0.5)).empty())
-  {
-    return e;
-  }
+  map.validate();
+  footprint.validate();
+  detail::requireInRange("start_free_radius", start_free_radius, 0.0, 2.0);
+  detail::requireInRange("check_distance", check_distance, 0.1, 10.0);
+  detail::requireInRange("heading_step", heading_step, 0.01, 2.0 * M_PI);
+  detail::requireInRange("bump_depth", bump_depth, 0.0, 0.5);
   if (headings < 0 || headings > 64)
   {
-    return detail::complaint("headings", "must be in [0, 64]", headings);
+    detail::refuse("headings", "must be in [0, 64]", headings);
   }
   if (check_distance > 0.5 * map.size - footprint.radius - footprint.lateral_margin)
   {
-    return detail::complaint("check_distance",
-                             "must fit in half the map (map_size / 2 - robot_radius - lateral_margin)", check_distance);
+    detail::refuse("check_distance", "must fit in half the map (map_size / 2 - robot_radius - lateral_margin)",
+                   check_distance);
   }
-  return std::string();
 }
 
 namespace
 {
 WorldParams checked(const WorldParams& p)
 {
-  const std::string e = p.validate();
-  if (!e.empty())
-  {
-    throw std::invalid_argument(e);
-  }
+  p.validate();
   return p;
 }
 }  // namespace

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <sl_testing/errors.h>
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/settings.h"
 #include "sl_obstacle/volume_checker.h"
@@ -17,6 +18,8 @@ namespace sl_obstacle
 {
 namespace
 {
+using sl_testing::validationError;
+
 const double kInf = std::numeric_limits<double>::infinity();
 
 FrameSummary frame(double stamp, double nearest, double free, double coverage = 1.0, double left = -1.0,
@@ -484,10 +487,11 @@ TEST(DecisionMaker, BadParametersAreRejectedNamingTheParameter)
   {
     DecisionParams p;
     c.spoil(p);
-    EXPECT_EQ(p.validate().rfind(c.name, 0), 0U) << c.name << ": " << p.validate();
+    EXPECT_THROW(p.validate(), std::invalid_argument) << c.name;
+    EXPECT_EQ(validationError(p).rfind(c.name, 0), 0U) << c.name << ": " << validationError(p);
     EXPECT_THROW(DecisionMaker dm(p), std::invalid_argument) << c.name;
   }
-  EXPECT_EQ(DecisionParams().validate(), "");
+  EXPECT_NO_THROW(DecisionParams().validate());
   DecisionMaker dm;
   DecisionParams bad;
   bad.max_speed = 0.0;
@@ -498,16 +502,17 @@ TEST(DecisionMaker, BadParametersAreRejectedNamingTheParameter)
 TEST(Settings, RelationsBetweenVolumeAndDecisions)
 {
   Settings s;
-  EXPECT_EQ(s.validate(), "");
+  EXPECT_NO_THROW(s.validate());
   s.decision.safety_margin = 0.78;
   s.decision.slow_distance = 0.79;
-  EXPECT_EQ(s.validate().rfind("safety_margin", 0), 0U) << s.validate();
+  EXPECT_THROW(s.validate(), std::invalid_argument);
+  EXPECT_EQ(validationError(s).rfind("safety_margin", 0), 0U) << validationError(s);
   s = Settings();
   s.decision.slow_distance = 0.9;
-  EXPECT_EQ(s.validate().rfind("slow_distance", 0), 0U) << s.validate();
+  EXPECT_EQ(validationError(s).rfind("slow_distance", 0), 0U) << validationError(s);
   s = Settings();
   s.checker.volume.width = -1.0;
-  EXPECT_EQ(s.validate().rfind("width", 0), 0U) << s.validate();
+  EXPECT_EQ(validationError(s).rfind("width", 0), 0U) << validationError(s);
 }
 
 // --- The whole core on synthetic clouds -------------------------------------------------------

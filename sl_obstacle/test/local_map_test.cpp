@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <sl_testing/errors.h>
 #include "sl_obstacle/local_map.h"
 
 namespace sl_obstacle
@@ -28,21 +29,6 @@ MapRay ray(float sx, float sy, float sz, float ex, float ey, float ez, RayKind k
 std::vector<MapRay> bothSlices(float sx, float ex, float y, RayKind kind)
 {
   return { ray(sx, y, kLow, ex, y, kLow, kind), ray(sx, y, kHigh, ex, y, kHigh, kind) };
-}
-
-/// The message of the std::invalid_argument thrown by @p f ("" if none).
-template <typename F>
-std::string thrownMessage(F f)
-{
-  try
-  {
-    f();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return std::string();
 }
 
 int countCells(const LocalMap& map, double now, std::int8_t value)
@@ -490,9 +476,9 @@ TEST(LocalMap, BadParametersThrowNamingTheField)
   {
     MapParams p;
     change(p);
-    return thrownMessage([&] { LocalMap map(p); });
+    return sl_testing::invalidArgumentOf([&] { LocalMap map(p); });
   };
-  EXPECT_EQ(thrownMessage([] { MapParams().validate(); }), "");
+  EXPECT_EQ(sl_testing::invalidArgumentOf([] { MapParams().validate(); }), "");
   EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.3; }).rfind("map_resolution must be in (0.005, 0.2]", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.resolution = 0.005; }).rfind("map_resolution", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.size = std::nan(""); }).rfind("map_size", 0), 0U);

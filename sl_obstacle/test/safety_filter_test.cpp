@@ -9,12 +9,15 @@
 #include <stdexcept>
 #include <vector>
 
+#include <sl_testing/errors.h>
 #include "sl_obstacle/safety_filter.h"
 
 namespace sl_obstacle
 {
 namespace
 {
+using sl_testing::validationError;
+
 constexpr double kRes = 0.02;
 constexpr double kBody = 0.1675;
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -330,14 +333,16 @@ TEST(SafetyFilter, SweptArcFindsCellsWhereTheDiscReachesThem)
 TEST(SafetyFilter, BadParametersAreNamed)
 {
   FilterParams p;
+  EXPECT_NO_THROW(p.validate());
   p.deceleration = -1.0;
-  EXPECT_EQ(p.validate().rfind("deceleration", 0), 0U) << p.validate();
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  EXPECT_EQ(validationError(p).rfind("deceleration", 0), 0U) << validationError(p);
   p = FilterParams();
   p.input_timeout = 0.0;
-  EXPECT_EQ(p.validate().rfind("input_timeout", 0), 0U) << p.validate();
+  EXPECT_EQ(validationError(p).rfind("input_timeout", 0), 0U) << validationError(p);
   p = FilterParams();
   p.footprint.radius = 0.0;
-  EXPECT_EQ(p.validate().rfind("radius", 0), 0U) << p.validate();
+  EXPECT_EQ(validationError(p).rfind("radius", 0), 0U) << validationError(p);
   EXPECT_THROW(SafetyFilter{ p }, std::invalid_argument);
 }
 }  // namespace

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <sl_testing/errors.h>
 #include "sl_obstacle/volume_checker.h"
 #include "synthetic_clouds.h"
 
@@ -15,6 +16,8 @@ namespace sl_obstacle
 {
 namespace
 {
+using sl_testing::validationError;
+
 using test::patch;
 using test::render;
 using test::Scene;
@@ -402,7 +405,8 @@ TEST(VolumeChecker, BadParametersAreRejectedNamingTheParameter)
   {
     CheckerParams params;
     c.spoil(params);
-    const std::string message = params.validate();
+    EXPECT_THROW(params.validate(), std::invalid_argument) << c.name;
+    const std::string message = validationError(params);
     EXPECT_EQ(message.rfind(c.name, 0), 0U) << "expected a message about " << c.name << ", got: " << message;
     try
     {
@@ -414,7 +418,7 @@ TEST(VolumeChecker, BadParametersAreRejectedNamingTheParameter)
       EXPECT_NE(std::string(e.what()).find(c.name), std::string::npos) << e.what();
     }
   }
-  EXPECT_EQ(CheckerParams().validate(), "");
+  EXPECT_NO_THROW(CheckerParams().validate());
 }
 
 TEST(VolumeChecker, SetParamsChangesTheBox)

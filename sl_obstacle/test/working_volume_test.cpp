@@ -5,18 +5,21 @@
 #include <limits>
 #include <string>
 
+#include <sl_testing/errors.h>
 #include "sl_obstacle/working_volume.h"
 
 namespace sl_obstacle
 {
 namespace
 {
+using sl_testing::validationError;
+
 TEST(WorkingVolume, DefaultsAreThePrototypesWindow)
 {
   const WorkingVolume v;
   EXPECT_DOUBLE_EQ(v.width, 0.331);
   EXPECT_DOUBLE_EQ(v.height, 0.173);
-  EXPECT_EQ(v.validate(), "");
+  EXPECT_NO_THROW(v.validate());
 }
 
 TEST(WorkingVolume, ContainsAndWindow)
@@ -40,14 +43,15 @@ TEST(WorkingVolume, ValidationNamesTheParameter)
 {
   WorkingVolume v;
   v.height = 0.0;
-  EXPECT_EQ(v.validate().rfind("height", 0), 0U) << v.validate();
+  EXPECT_THROW(v.validate(), std::invalid_argument);
+  EXPECT_EQ(validationError(v).rfind("height", 0), 0U) << validationError(v);
   v = WorkingVolume();
   v.max_range = std::nan("");
-  EXPECT_EQ(v.validate().rfind("max_range", 0), 0U) << v.validate();
+  EXPECT_EQ(validationError(v).rfind("max_range", 0), 0U) << validationError(v);
   v = WorkingVolume();
   v.max_range = 0.5;  // below depth
-  EXPECT_EQ(v.validate().rfind("depth", 0), 0U) << v.validate();
-  EXPECT_NE(v.validate().find("got 0.8"), std::string::npos) << v.validate();
+  EXPECT_EQ(validationError(v).rfind("depth", 0), 0U) << validationError(v);
+  EXPECT_NE(validationError(v).find("got 0.8"), std::string::npos) << validationError(v);
 }
 }  // namespace
 }  // namespace sl_obstacle

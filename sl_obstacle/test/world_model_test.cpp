@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include <sl_testing/errors.h>
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/world_model.h"
 
@@ -14,6 +15,8 @@ namespace sl_obstacle
 {
 namespace
 {
+using sl_testing::validationError;
+
 const double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEdge = 0.1675;  // base_link -> front edge
 
@@ -275,17 +278,19 @@ TEST(WorldModel, ContactTravelOfTheDisc)
 TEST(WorldModel, BadParametersNameTheParameter)
 {
   WorldParams p;
+  EXPECT_NO_THROW(p.validate());
   p.start_free_radius = -1.0;
-  EXPECT_NE(p.validate().find("start_free_radius"), std::string::npos);
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  EXPECT_NE(validationError(p).find("start_free_radius"), std::string::npos) << validationError(p);
   p = WorldParams();
   p.check_distance = 5.0;  // beyond half of the 4 m map
-  EXPECT_NE(p.validate().find("check_distance"), std::string::npos);
+  EXPECT_NE(validationError(p).find("check_distance"), std::string::npos) << validationError(p);
   p = WorldParams();
   p.headings = -1;
-  EXPECT_NE(p.validate().find("headings"), std::string::npos);
+  EXPECT_NE(validationError(p).find("headings"), std::string::npos) << validationError(p);
   p = WorldParams();
   p.map.resolution = 0.0;
-  EXPECT_FALSE(p.validate().empty());
+  EXPECT_EQ(validationError(p).rfind("map_resolution", 0), 0U) << validationError(p);
   EXPECT_THROW(WorldModel{ p }, std::invalid_argument);
 }
 

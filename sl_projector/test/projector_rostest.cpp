@@ -1,5 +1,6 @@
 // Checks the projector nodelet in a running system: latched pattern and camera_info, and that bad
-// parameters stop the node with a message naming the parameter.
+// parameters stop the node with a message naming the parameter. Also the nodelets' rig file
+// parameter (sl_projector/ros/rig_param.h) against the parameter server.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -9,7 +10,10 @@
 #include <sl_testing/child_process.h>
 #include <sl_testing/process.h>
 #include <sl_testing/rostest_main.h>
+#include <sl_testing/errors.h>
 #include <sl_testing/wait.h>
+
+#include "sl_projector/ros/rig_param.h"
 
 using sl_testing::Child;
 using sl_testing::run;
@@ -75,6 +79,30 @@ TEST(ProjectorNode, MissingDisplayAndBusAreReportedNotFatal)
   EXPECT_TRUE(waitForMessage<sensor_msgs::Image>("pattern_no_display", 60.0)) << "no pattern after the reports";
   EXPECT_TRUE(node.running()) << node.output();
   EXPECT_EQ(node.interrupt(), 0) << "exit status after SIGINT\n" << node.output();
+}
+
+TEST(RigParam, LoadsTheRigOrRefusesNamingTheParameter)
+{
+  using sl_projector::loadRigParam;
+  using sl_testing::invalidArgumentOf;
+  const std::string rig_file = SL_PROJECTOR_CONFIG_DIR "/default_rig.yaml";
+  ros::NodeHandle good("~rig_good"), missing("~rig_missing"), number("~rig_number"), no_file("~rig_no_file"),
+      old("~rig_old");
+  good.setParam("calibration_file", rig_file);
+  number.setParam("calibration_file", 3);
+  no_file.setParam("calibration_file", "/no/such.yaml");
+  old.setParam("rig_file", rig_file);
+
+  const sl_projector::RigParam p = loadRigParam(good);
+  EXPECT_EQ(p.file, rig_file);
+  EXPECT_EQ(p.rig.camera.width, sl_projector::loadRig(rig_file).camera.width);
+  EXPECT_EQ(invalidArgumentOf([&] { loadRigParam(missing); }).rfind("~calibration_file: required", 0), 0U);
+  EXPECT_EQ(invalidArgumentOf([&] { loadRigParam(number); }), "~calibration_file must be a string, got an integer");
+  EXPECT_EQ(invalidArgumentOf([&] { loadRigParam(no_file); }).rfind("~calibration_file: /no/such.yaml: cannot open", 0),
+            0U);
+  // The deprecated former name counts only where the nodelet still reads it.
+  EXPECT_EQ(loadRigParam(old, "rig_file").file, rig_file);
+  EXPECT_EQ(invalidArgumentOf([&] { loadRigParam(old); }).rfind("~calibration_file: required", 0), 0U);
 }
 
 int main(int argc, char** argv)

@@ -24,6 +24,7 @@
 #include "sl_calibration/full_calibration.h"
 #include "sl_calibration/plane_calibration.h"
 #include "sl_params/params.h"
+#include "sl_projector/ros/rig_param.h"
 
 namespace sl_calibration
 {
@@ -34,7 +35,6 @@ namespace
 struct CalibrationParams
 {
   std::string mode = "plane";
-  std::string calibration_file;
   std::string output_file;
   double epipolar_tolerance = kCalibrationEpipolarTolerance;
   double capture_timeout = 10.0;
@@ -62,19 +62,8 @@ CalibrationParams readParams(const ros::NodeHandle& pnh)
   sl_params::readIfSet(pnh, "mode", p.mode);
   if (p.mode != "plane" && p.mode != "full")
     throw std::invalid_argument("~mode: must be 'plane' or 'full', got '" + p.mode + "'");
-  if (!pnh.getParam("calibration_file", p.calibration_file) || p.calibration_file.empty())
-    throw std::invalid_argument(
-        "~calibration_file: required (the rig file to start from, e.g. "
-        "$(find sl_projector)/config/default_rig.yaml)");
-  try
-  {
-    p.rig = sl_projector::loadRig(p.calibration_file);
-  }
-  catch (const std::exception& e)
-  {
-    throw std::invalid_argument(std::string("~calibration_file: ") + e.what());
-  }
-  if (!pnh.getParam("output_file", p.output_file) || p.output_file.empty())
+  p.rig = sl_projector::loadRigParam(pnh).rig;  // the rig to start from
+  if (!sl_params::readIfSet(pnh, "output_file", p.output_file) || p.output_file.empty())
     throw std::invalid_argument("~output_file: required (where the calibrated rig file is written)");
   sl_params::readIfSet(pnh, "epipolar_tolerance", p.epipolar_tolerance);
   if (!(p.epipolar_tolerance > 0.0 && p.epipolar_tolerance <= 50.0))

@@ -28,16 +28,17 @@
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
 #include "sl_params/params.h"
+#include "sl_projector/ros/rig_param.h"
 
 namespace sl_decoder
 {
 
 namespace
 {
-/// Node parameters that are not decoder tunables, read and validated in one place.
+/// Node parameters that are not decoder tunables, read and validated in one place (the rig:
+/// sl_projector::loadRigParam()).
 struct NodeParams
 {
-  std::string calibration_file;
   std::string target_frame = "platform_edge";
   std::string camera_frame;  // empty: the image's frame_id
   double tf_timeout = 0.0;
@@ -97,10 +98,6 @@ void readRayParams(const ros::NodeHandle& pnh, NodeParams& p)
 NodeParams readParams(const ros::NodeHandle& pnh)
 {
   NodeParams p;
-  p.calibration_file = sl_params::read(pnh, "calibration_file", p.calibration_file);
-  if (p.calibration_file.empty())
-    throw std::invalid_argument(
-        "~calibration_file is required (the rig file, e.g. sl_projector/config/default_rig.yaml)");
   p.target_frame = sl_params::read(pnh, "target_frame", p.target_frame);
   if (p.target_frame.empty())
     throw std::invalid_argument("~target_frame must not be empty");
@@ -149,15 +146,10 @@ private:
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     try
     {
+      rig_ = sl_projector::loadRigParam(pnh).rig;
       params_ = readParams(pnh);
-      rig_ = sl_projector::loadRig(params_.calibration_file);
       decoder_.reset(new Decoder(rig_, params_.decoder));
       rays_.reset(new RayClassifier(rig_, params_.decoder, params_.ray));
-    }
-    catch (const sl_projector::RigFileError& e)
-    {
-      NODELET_FATAL("~calibration_file: %s", e.what());
-      throw;
     }
     catch (const std::exception& e)
     {

@@ -16,6 +16,7 @@
 
 #include "sl_evaluation/calibration_simulation.h"
 #include "sl_params/params.h"
+#include "sl_projector/ros/rig_param.h"
 
 namespace sl_evaluation
 {
@@ -33,13 +34,11 @@ private:
   {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    std::string rig_file, scene_file, reference = "camera";
+    std::string scene_file, reference = "camera";
     double rate = 20.0;
     try
     {
-      if (!sl_params::readIfSetRenamed(pnh, "calibration_file", "rig_file", rig_file) || rig_file.empty())
-        throw std::invalid_argument("~calibration_file: required (the simulator's rig file)");
-      rig_ = sl_projector::loadRig(rig_file);
+      rig_ = sl_projector::loadRigParam(pnh, "rig_file").rig;  // the simulator's rig
       if (!pnh.getParam("scene_file", scene_file) || scene_file.empty())
         throw std::invalid_argument("~scene_file: required (a scene with a plane named 'wall', e.g. calib_wall.yaml)");
       scene_ = sl_sim::loadScene(scene_file);

@@ -34,8 +34,8 @@ struct DecisionParams
   double backoff_distance = 0.3;     ///< longest back-off (m)
   double backoff_speed = 0.08;       ///< back-off speed (m/s)
 
-  /// @return empty when valid, else a message starting with the offending parameter's name.
-  [[nodiscard]] std::string validate() const;
+  /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
+  void validate() const;
 };
 
 /// Decision state (values equal the ObstacleStatus message constants).

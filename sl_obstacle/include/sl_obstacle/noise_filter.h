@@ -4,7 +4,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "sl_obstacle/point.h"
@@ -28,8 +27,8 @@ struct NoiseFilterParams
   /// obstacle (m); covers the robot's own motion between frames.
   double persistence_tolerance = 0.05;
 
-  /// @return empty when valid, else a message starting with the offending parameter's name.
-  [[nodiscard]] std::string validate() const;
+  /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
+  void validate() const;
 };
 
 /// What the filter did with one frame's in-box points.

@@ -38,8 +38,8 @@ struct FilterParams
   double input_timeout = 0.5;  ///< s without a command before the robot stops
   double stale_timeout = 0.5;  ///< s without a fresh cloud before forward motion stops
 
-  /// @return empty when valid, else a message starting with the offending parameter's name.
-  [[nodiscard]] std::string validate() const;
+  /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
+  void validate() const;
 };
 
 /// Why the filter gave its output.

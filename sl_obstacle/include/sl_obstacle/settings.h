@@ -2,8 +2,6 @@
 /// @brief All parameters of the obstacle pipeline, validated together.
 #pragma once
 
-#include <string>
-
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/safety_filter.h"
 #include "sl_obstacle/volume_checker.h"
@@ -20,7 +18,7 @@ struct Settings
   FilterParams filter;       ///< safety filter for cmd_vel_in (footprint, margin, timeouts shared)
   double teleop_hold = 2.0;  ///< s a command on cmd_vel_in takes over from autonomy
 
-  /// @return empty when valid, else a message starting with the offending parameter's name.
-  [[nodiscard]] std::string validate() const;
+  /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
+  void validate() const;
 };
 }  // namespace sl_obstacle

@@ -4,7 +4,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "sl_obstacle/noise_filter.h"
@@ -22,8 +21,8 @@ struct CheckerParams
   double min_confidence = 0.0;  ///< points with lower (or NaN) confidence are ignored
   NoiseFilterParams noise;      ///< stray-point rejection
 
-  /// @return empty when valid, else a message starting with the offending parameter's name.
-  [[nodiscard]] std::string validate() const;
+  /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
+  void validate() const;
 };
 
 /// Result for one lateral sector of the box.

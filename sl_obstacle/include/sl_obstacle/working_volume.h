@@ -2,8 +2,6 @@
 /// @brief The box the robot sweeps when it drives forward, and the sensor range.
 #pragma once
 
-#include <string>
-
 #include "sl_obstacle/point.h"
 
 namespace sl_obstacle
@@ -22,9 +20,9 @@ struct WorkingVolume
   double floor_margin = 0.015;  ///< points below this height are floor (m)
   double max_range = 1.0;       ///< points farther than this along x are ignored (m)
 
-  /// Checks the values. @return an empty string when valid, otherwise a message that starts with the
-  /// name of the offending parameter (e.g. "width must be > 0 (got -0.1)").
-  [[nodiscard]] std::string validate() const;
+  /// Checks the values. @throws std::invalid_argument when invalid, with a message that starts with
+  /// the name of the offending parameter (e.g. "width must be in [0.001, 5] (got -0.1)").
+  void validate() const;
 
   /// True when the point lies inside the box (faces inclusive; x = 0 excluded). NaN is never inside.
   bool contains(const Point& p) const;

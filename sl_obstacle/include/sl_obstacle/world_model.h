@@ -6,7 +6,6 @@
 
 #include <cstdint>
 #include <limits>
-#include <string>
 #include <vector>
 
 #include "sl_obstacle/decision_maker.h"
@@ -36,8 +35,8 @@ struct WorldParams
   int headings = 6;                 ///< candidate headings on each side of the current one
   double bump_depth = 0.06;         ///< m in front of the bumper marked occupied after a bump
 
-  /// @return empty when valid, else a message starting with the offending parameter's name.
-  [[nodiscard]] std::string validate() const;
+  /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
+  void validate() const;
 };
 
 /// @brief What the map says at the robot's current pose. Distances are travel of base_link, m.

@@ -157,9 +157,7 @@ void validateConfig(const ObstacleConfig& config)
       throw std::invalid_argument(s.str());
     }
   }
-  const std::string e = toSettings(config).validate();
-  if (!e.empty())
-    throw std::invalid_argument(e);
+  toSettings(config).validate();
 }
 
 namespace

@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <cv_bridge/cv_bridge.h>
 #include <image_transport/image_transport.h>
@@ -24,7 +25,7 @@
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
 #include "sl_sim/sim_settings.h"
-#include "sl_projector/rig.h"
+#include "sl_projector/ros/rig_param.h"
 #include "sl_params/params.h"
 
 namespace sl_sim
@@ -54,18 +55,10 @@ struct SimParams
 // The rig and the scene, loaded from their files.
 void readFiles(const ros::NodeHandle& pnh, SimParams& p)
 {
-  // One name for the rig file across the nodelets; ~rig_file is the deprecated former one.
-  if (!sl_params::readIfSetRenamed(pnh, "calibration_file", "rig_file", p.rig_file) || p.rig_file.empty())
-    throw std::invalid_argument(
-        "~calibration_file: required (the rig file, e.g. $(find sl_projector)/config/default_rig.yaml)");
-  try
-  {
-    p.rig = sl_projector::loadRig(p.rig_file);
-  }
-  catch (const std::exception& e)
-  {
-    throw std::invalid_argument(std::string("~calibration_file: ") + e.what());
-  }
+  // ~rig_file is the deprecated former name of ~calibration_file.
+  sl_projector::RigParam rig = sl_projector::loadRigParam(pnh, "rig_file");
+  p.rig_file = std::move(rig.file);
+  p.rig = std::move(rig.rig);
   if (!pnh.getParam("scene_file", p.scene_file) || p.scene_file.empty())
     throw std::invalid_argument("~scene_file: required (a scene file, e.g. $(find sl_sim)/scenes/room.yaml)");
   try

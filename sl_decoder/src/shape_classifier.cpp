@@ -7,6 +7,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "sl_projector/primitives.h"
 
@@ -44,6 +47,88 @@ ShapeClassifier::ShapeClassifier(const DecoderConfig& config, int box_width, int
     normalise(v);
   }
   samples_.resize(static_cast<size_t>(tw_ * th_));
+  useAvx2(true);
+}
+
+bool ShapeClassifier::useAvx2(bool on)
+{
+#if defined(__x86_64__)
+  avx2_ = on && tw_ == 8 && __builtin_cpu_supports("avx2");
+#else
+  avx2_ = false;
+#endif
+  return avx2_;
+}
+
+namespace
+{
+#if defined(__x86_64__)
+/// Eight horizontal interpolations of one image row: left + wx * (right - left), the left and right
+/// source bytes picked out of @p bytes by the two shuffles.
+__attribute__((target("avx2"))) inline __m256 lerpRow8(__m128i bytes, __m128i pick_left, __m128i pick_right, __m256 wx)
+{
+  const __m256i a = _mm256_cvtepu8_epi32(_mm_shuffle_epi8(bytes, pick_left));
+  const __m256i b = _mm256_cvtepu8_epi32(_mm_shuffle_epi8(bytes, pick_right));
+  return _mm256_add_ps(_mm256_cvtepi32_ps(a), _mm256_mul_ps(wx, _mm256_cvtepi32_ps(_mm256_sub_epi32(b, a))));
+}
+
+/// The AVX2 twin of the portable loop in ShapeClassifier::sampleGrid() for a grid 8 samples wide
+/// whose source pixels ix[0] .. ix[7] + 1 lie within 16 bytes from ix[0] (in the image): each grid
+/// row is two 16-byte loads and byte shuffles, then the same float operations as the loop (no FMA).
+__attribute__((target("avx2"))) void sampleGrid8Avx2(const uint8_t* data, size_t step, size_t row_step, const int* ix,
+                                                     const float* ax, const int* iy, const float* ay, int rows,
+                                                     float* out)
+{
+  alignas(16) int8_t left[16], right[16];
+  for (int i = 0; i < 16; ++i)
+  {
+    left[i] = static_cast<int8_t>(i < 8 ? ix[i] - ix[0] : -1);  // -1: the shuffle gives 0
+    right[i] = static_cast<int8_t>(i < 8 ? ix[i] + 1 - ix[0] : -1);
+  }
+  const __m128i pick_left = _mm_load_si128(reinterpret_cast<const __m128i*>(left));
+  const __m128i pick_right = _mm_load_si128(reinterpret_cast<const __m128i*>(right));
+  const __m256 wx = _mm256_loadu_ps(ax);
+  for (int j = 0; j < rows; ++j)
+  {
+    const uint8_t* r0 = data + static_cast<size_t>(iy[j]) * step + ix[0];
+    const __m256 top = lerpRow8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r0)), pick_left, pick_right, wx);
+    const __m256 bottom =
+        lerpRow8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r0 + row_step)), pick_left, pick_right, wx);
+    const __m256 wy = _mm256_set1_ps(ay[j]);
+    _mm256_storeu_ps(out + 8 * j, _mm256_add_ps(top, _mm256_mul_ps(wy, _mm256_sub_ps(bottom, top))));
+  }
+}
+#endif
+}  // namespace
+
+void ShapeClassifier::sampleGrid(const cv::Mat& image)
+{
+  const int wmax = image.cols - 1, hmax = image.rows - 1;
+  const int x_step = wmax > 0 ? 1 : 0;
+  const size_t row_step = hmax > 0 ? image.step[0] : 0;
+#if defined(__x86_64__)
+  if (avx2_ && x_step == 1 && ix_[7] + 1 - ix_[0] < 16 && ix_[0] + 16 <= image.cols)
+  {
+    sampleGrid8Avx2(image.data, image.step[0], row_step, ix_.data(), ax_.data(), iy_.data(), ay_.data(), th_,
+                    samples_.data());
+    return;
+  }
+#endif
+  float* out = samples_.data();
+  for (int j = 0; j < th_; ++j)
+  {
+    const uint8_t* r0 = image.ptr<uint8_t>(iy_[static_cast<size_t>(j)]);
+    const uint8_t* r1 = r0 + row_step;
+    const float ay = ay_[static_cast<size_t>(j)];
+    for (int i = 0; i < tw_; ++i)
+    {
+      const int x = ix_[static_cast<size_t>(i)];
+      const float ax = ax_[static_cast<size_t>(i)];
+      const float top = r0[x] + ax * static_cast<float>(r0[x + x_step] - r0[x]);
+      const float bottom = r1[x] + ax * static_cast<float>(r1[x + x_step] - r1[x]);
+      *out++ = top + ay * (bottom - top);
+    }
+  }
 }
 
 void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
@@ -73,23 +158,7 @@ void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
     iy_[static_cast<size_t>(j)] = y;
     ay_[static_cast<size_t>(j)] = std::min(1.f, fy - static_cast<float>(y));
   }
-  const int x_step = wmax > 0 ? 1 : 0;
-  const size_t row_step = hmax > 0 ? image.step[0] : 0;
-  float* out = samples_.data();
-  for (int j = 0; j < th_; ++j)
-  {
-    const uint8_t* r0 = image.ptr<uint8_t>(iy_[static_cast<size_t>(j)]);
-    const uint8_t* r1 = r0 + row_step;
-    const float ay = ay_[static_cast<size_t>(j)];
-    for (int i = 0; i < tw_; ++i)
-    {
-      const int x = ix_[static_cast<size_t>(i)];
-      const float ax = ax_[static_cast<size_t>(i)];
-      const float top = r0[x] + ax * static_cast<float>(r0[x + x_step] - r0[x]);
-      const float bottom = r1[x] + ax * static_cast<float>(r1[x + x_step] - r1[x]);
-      *out++ = top + ay * (bottom - top);
-    }
-  }
+  sampleGrid(image);
   // Templates are zero-mean, so sum(s * t) needs no mean removal; the norm of s - mean is
   // sqrt(sum s^2 - n mean^2). Independent partial sums keep the loops free of long dependency chains.
   const size_t n = samples_.size();

@@ -43,7 +43,18 @@ public:
    */
   void refineCentroid(const cv::Mat& image, Blob& blob, int margin = 2) const;
 
+  /**
+   * @brief Uses the AVX2 resampling where the CPU has it (@p on, the default) or the portable loop
+   * only; returns whether AVX2 is in use. Both give bit-identical samples (the same float
+   * operations in the same order); the choice is for tests and benchmarks.
+   */
+  bool useAvx2(bool on);
+
 private:
+  /// Bilinear samples of the grid (ix_, ax_, iy_, ay_) into samples_, one grid row at a time.
+  void sampleGrid(const cv::Mat& image);
+
+  bool avx2_ = false;
   DecoderConfig config_;
   int tw_, th_;
   std::array<std::vector<float>, 4> templates_;  // zero mean, unit norm

@@ -24,22 +24,35 @@ constexpr int kMaxCellsPerSide = 4096;
 constexpr std::size_t kMaxVoxels = std::size_t(1) << 25;
 // Lattice indices are clamped to this so that window arithmetic never overflows an int.
 constexpr double kMaxIndex = 1e9;
-// A free ray lowers a cell that holds hits only if it passes through the box around them shrunk by
-// this fraction of a cell on each side: a ray grazing a round object crosses the corners of the box
-// of its seen face, never the middle (a box corner lies inside a cylinder of radius up to
-// kExtentInset / (1 - 1/sqrt(2)), 17 mm in 2 cm cells; larger objects span several cells).
+// A free ray lowers a cell that holds a few hits only if it passes within this fraction of a cell of
+// the box around them: beside a thin object it says nothing, through the place of a stray point it
+// erases it.
+constexpr double kExtentMargin = 0.25;
+// A cell with this many hits holds a surface seen again and again (a 22 mm leg at 0.7 m returns
+// some 40 decoded points per image). A free ray lowers it only through the box around its hits shrunk
+// by kExtentInset on each side: a ray grazing a round object crosses the corners of the box of its
+// seen face, never the middle (a box corner lies inside a cylinder of radius up to
+// kExtentInset / (1 - 1/sqrt(2)), 17 mm in 2 cm cells; larger objects span several cells) ...
+constexpr std::uint8_t kConfirmedHits = 8;
 constexpr double kExtentInset = 0.25;
 // ... but never narrower than this fraction of a cell on each side of the box's middle: the decoded
-// points are sub-millimetre exact, so a ray this close to the place of a thin object's hits passes
-// where the object was, and a moved object must still be forgotten.
+// points are sub-millimetre exact, so a ray this close to the place of the hits passes where the
+// object was, and a moved object must still be forgotten.
 constexpr double kExtentTolerance = 0.05;
 
-/// [lo, hi] (cell fractions) shrunk by kExtentInset, but at least kExtentTolerance around its middle.
-void innerRange(double lo, double hi, double& inner_lo, double& inner_hi)
+/// The range (cell fractions) a free ray must cross to lower a cell whose hits span [lo, hi]:
+/// grown by kExtentMargin for a few hits, the middle for a confirmed surface (see above).
+void passRange(double lo, double hi, bool confirmed, double& pass_lo, double& pass_hi)
 {
+  if (!confirmed)
+  {
+    pass_lo = lo - kExtentMargin;
+    pass_hi = hi + kExtentMargin;
+    return;
+  }
   const double mid = 0.5 * (lo + hi);
-  inner_lo = std::min(lo + kExtentInset, mid - kExtentTolerance);
-  inner_hi = std::max(hi - kExtentInset, mid + kExtentTolerance);
+  pass_lo = std::min(lo + kExtentInset, mid - kExtentTolerance);
+  pass_hi = std::max(hi - kExtentInset, mid + kExtentTolerance);
 }
 
 /// "<name> must be in (lo, hi] (got v)" unless lo < v <= hi.
@@ -279,7 +292,8 @@ void LocalMap::growExtent(const MapRay& r)
   const std::uint8_t fx = fraction(r.ex);
   const std::uint8_t fy = fraction(r.ey);
   Extent& e = extent_[slot(static_cast<int>(lx), static_cast<int>(ly))];
-  e = { std::min(e.x0, fx), std::min(e.y0, fy), std::max(e.x1, fx), std::max(e.y1, fy) };
+  e = { std::min(e.x0, fx), std::min(e.y0, fy), std::max(e.x1, fx), std::max(e.y1, fy),
+        static_cast<std::uint8_t>(e.hits < 255 ? e.hits + 1 : 255) };
 }
 
 bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const
@@ -290,10 +304,11 @@ bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, do
     return true;  // no hit in this cell: every ray through it counts
   }
   // The piece of the ray inside the cell, in cell units from its lower left corner, against the
-  // middle of the box around the cell's hits.
+  // range around (a few hits) or in the middle of (a confirmed surface) the box of the cell's hits.
+  const bool confirmed = e.hits >= kConfirmedHits;
   double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
-  innerRange(e.x0 / 255.0, e.x1 / 255.0, x0, x1);
-  innerRange(e.y0 / 255.0, e.y1 / 255.0, y0, y1);
+  passRange(e.x0 / 255.0, e.x1 / 255.0, confirmed, x0, x1);
+  passRange(e.y0 / 255.0, e.y1 / 255.0, confirmed, y0, y1);
   double t0 = 0.0, t1 = dt;
   return clipSlab(fx, dfx, x0, x1, t0, t1) && clipSlab(fy, dfy, y0, y1, t0, t1);
 }

@@ -102,8 +102,8 @@ TEST(LocalMap, FreeRaysClearAnObstacleOverSeveralClouds)
 TEST(LocalMap, RaysBesideAThinObstacleInItsCellDoNotEraseIt)
 {
   // A leg seen once at y = 0.013 in the cell [0.50, 0.52) x [0.00, 0.02); rays then pass through
-  // the same cell 8 mm beside it, cloud after cloud (a turn sweeps them past it): they say nothing
-  // about it.
+  // the same cell 8 mm beside it, cloud after cloud (a turn sweeps them past it): beyond the quarter
+  // cell around the hit, they say nothing about it.
   MapParams no_decay;
   no_decay.decay = 1e6;
   LocalMap map{ no_decay };
@@ -119,18 +119,43 @@ TEST(LocalMap, RaysBesideAThinObstacleInItsCellDoNotEraseIt)
   // hit left: rays anywhere through it count again.
   for (int i = 0; i < 3; ++i)
   {
-    map.insert(bothSlices(0.0F, 1.0F, 0.0135F, RayKind::Free), 3.0);
+    map.insert(bothSlices(0.0F, 1.0F, 0.012F, RayKind::Free), 3.0);
   }
   EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Free);
   map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 3.0);
   map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 3.0);
   for (int i = 0; i < 4; ++i)  // -0.35 + 2 * 0.85 - 4 * 0.4 = -0.25: unknown, and the hit forgotten
   {
-    map.insert(bothSlices(0.0F, 1.0F, 0.0125F, RayKind::Free), 3.0);
+    map.insert(bothSlices(0.0F, 1.0F, 0.012F, RayKind::Free), 3.0);
   }
   EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Unknown);
   map.insert(bothSlices(0.0F, 1.0F, 0.002F, RayKind::Free), 3.0);
   EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Free);
+}
+
+TEST(LocalMap, AStrayHitIsErasedByRaysNearItAConfirmedSurfaceOnlyThroughIt)
+{
+  // One decoded point (a stray decoding, both slices): rays 4 mm beside it, within a quarter cell,
+  // erase it. The same point decoded in five clouds (ten hits) is a surface: the same rays leave it,
+  // rays through its place erase it.
+  MapParams no_decay;
+  no_decay.decay = 1e6;
+  LocalMap stray{ no_decay }, surface{ no_decay };
+  stray.insert(bothSlices(0.0F, 0.513F, 0.013F, RayKind::Hit), 0.0);
+  for (int i = 0; i < 5; ++i)
+    surface.insert(bothSlices(0.0F, 0.513F, 0.013F, RayKind::Hit), 0.1 * i);
+  ASSERT_EQ(stray.state(0.51, 0.01, 0.5), CellState::Occupied);
+  ASSERT_EQ(surface.state(0.51, 0.01, 0.5), CellState::Occupied);
+  for (int i = 0; i < 12; ++i)
+  {
+    stray.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
+    surface.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
+  }
+  EXPECT_EQ(stray.state(0.51, 0.01, 3.0), CellState::Free);
+  EXPECT_EQ(surface.state(0.51, 0.01, 3.0), CellState::Occupied);
+  for (int i = 0; i < 12; ++i)
+    surface.insert(bothSlices(0.0F, 1.0F, 0.013F, RayKind::Free), 3.0 + 0.1 * i);
+  EXPECT_EQ(surface.state(0.51, 0.01, 5.0), CellState::Free);
 }
 
 namespace

@@ -77,7 +77,7 @@ enum class CellState : std::uint8_t
 /// cells [i * resolution, (i + 1) * resolution); each cell holds `slices` log-odds values for equal
 /// height slices of [z_min, z_max] and the time of its last update. The window is a ring buffer:
 /// recenter() moves it by whole cells without copying, forgetting the cells that leave. All memory
-/// is allocated by the constructor (9 bytes per slice and 12 per cell: 1.2 MB for the defaults'
+/// is allocated by the constructor (9 bytes per slice and 13 per cell: 1.2 MB for the defaults'
 /// 200 x 200 x 2); nothing grows with run time.
 ///
 /// Updates of one insert() call are combined per slice (each slice changes at most once per cloud):
@@ -97,10 +97,11 @@ public:
 
   /// Inserts one cloud's rays taken at @p stamp (s). Free parts lower the log-odds of every slice
   /// they cross inside the band (3D traversal: Amanatides-Woo in x-y, z interpolated), except in a
-  /// cell that holds hits, where only a ray passing through the middle of the box around those hits
-  /// (shrunk by a quarter cell, but at least a twentieth of a cell either side of its centre) counts:
-  /// a ray beside a thin obstacle in the same cell, or grazing its flank from another side, says
-  /// nothing about it. Hit ends
+  /// cell that holds hits, where only a ray passing near the box around those hits (grown by a
+  /// quarter cell) counts, and once the cell holds 8 hits or more (a surface seen again and again)
+  /// only a ray through the middle of that box (shrunk by a quarter cell, but at least a twentieth
+  /// of a cell either side of its centre): a ray beside a thin obstacle in the same cell, or grazing
+  /// its flank from another side, says nothing about it. Hit ends
   /// inside the band raise their slice by `hit`, Suspect ends by `suspect`; within one batch a
   /// slice changes once: occupied beats suspect beats free where two or more Suspect rays end in
   /// the voxel, and free beats a lone Suspect end. Rays are clipped to the window; rays with a non-finite
@@ -179,7 +180,7 @@ private:
   void growExtent(const MapRay& r);
   /// True if the piece of a ray inside @p cell (from (fx, fy) in cell units from the cell's lower
   /// left corner, direction (dfx, dfy) per unit of the ray parameter, for @p dt of it) passes through
-  /// the middle of the box around the cell's hits, or if the cell holds no hit.
+  /// the range the cell's hits ask for (see insert()), or if the cell holds no hit.
   bool passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const;
   /// Forgets the hit extent of @p cell once no slice holds positive log-odds.
   void forgetExtentIfEmpty(std::size_t cell);
@@ -187,10 +188,11 @@ private:
   /// Where in a cell its hits lay (1/255 of a cell from its lower left corner): the box x0..x1, y0..y1.
   struct Extent
   {
-    std::uint8_t x0, y0, x1, y1;
+    std::uint8_t x0, y0, x1, y1;  ///< box of the hits in 1/255 of a cell from its lower left corner
+    std::uint8_t hits;            ///< hits that formed it (saturating)
   };
-  static constexpr Extent kNoExtent = { 255, 255, 0, 0 };    ///< empty box: no hit
-  static constexpr Extent kFullExtent = { 0, 0, 255, 255 };  ///< the whole cell (a bump)
+  static constexpr Extent kNoExtent = { 255, 255, 0, 0, 0 };      ///< empty box: no hit
+  static constexpr Extent kFullExtent = { 0, 0, 255, 255, 255 };  ///< the whole cell (a bump)
   /// Forgets the ring column (slot x) @p rx or row (slot y) @p ry.
   void clearColumn(int rx);
   void clearRow(int ry);

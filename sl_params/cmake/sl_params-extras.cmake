@@ -1,0 +1,40 @@
+# The install rules every nodelet package of the stack writes, once (sl_params' CFG_EXTRAS: every
+# nodelet package finds sl_params already). In a package, after its targets:
+#   sl_install_package(LIBRARIES <pkg>_core <pkg>_nodelets PROGRAMS <name>_node SHARE launch config)
+
+# sl_install_package([LIBRARIES <target>...] [PROGRAMS <target>...] [SHARE <file or dir>...])
+# LIBRARIES: libraries, into the package's lib folder. PROGRAMS: executables, into the package's
+# lib folder (rosrun). SHARE: files and folders (relative to the package) into its share folder.
+# Also include/<package>/ and nodelet_plugins.xml, where the package has them.
+function(sl_install_package)
+  cmake_parse_arguments(ARG "" "" "LIBRARIES;PROGRAMS;SHARE" ${ARGN})
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "sl_install_package: unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
+  endif()
+  if(ARG_LIBRARIES)
+    install(TARGETS ${ARG_LIBRARIES}
+      ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+      LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+      RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
+  endif()
+  if(ARG_PROGRAMS)
+    install(TARGETS ${ARG_PROGRAMS} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  endif()
+  if(IS_DIRECTORY ${PROJECT_SOURCE_DIR}/include/${PROJECT_NAME})
+    install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
+  endif()
+  set(_share)
+  if(EXISTS ${PROJECT_SOURCE_DIR}/nodelet_plugins.xml)
+    list(APPEND _share nodelet_plugins.xml)
+  endif()
+  foreach(_item ${ARG_SHARE})
+    if(IS_DIRECTORY ${PROJECT_SOURCE_DIR}/${_item})
+      install(DIRECTORY ${_item} DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+    else()
+      list(APPEND _share ${_item})
+    endif()
+  endforeach()
+  if(_share)
+    install(FILES ${_share} DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+  endif()
+endfunction()

@@ -61,14 +61,17 @@ struct FakeDevice
 class FakeSource : public FrameSource
 {
 public:
-  explicit FakeSource(std::shared_ptr<FakeDevice> device) : device_(std::move(device)) {}
-  std::string description() const override { return "fake camera /dev/fake0"; }
+  explicit FakeSource(std::shared_ptr<FakeDevice> device)
+    : FrameSource("fake camera /dev/fake0"), device_(std::move(device))
+  {
+  }
   void open() override
   {
     ++device_->opens;
     if (!device_->present)
       throw CameraError(CameraError::Kind::NotFound, "fake camera /dev/fake0 does not exist");
     open_ = true;
+    setNominalRate(device_->rate);
     if (device_->warn_on_open)
       warn("fake camera /dev/fake0: gain ignored");
   }
@@ -130,7 +133,6 @@ public:
   }
   bool isOpen() const override { return open_; }
   bool waiting() const override { return open_ && device_->holding; }
-  double nominalRate() const override { return device_->rate; }
 
 private:
   std::shared_ptr<FakeDevice> device_;

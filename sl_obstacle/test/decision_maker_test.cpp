@@ -53,6 +53,17 @@ DecisionParams noTurning()
   return p;
 }
 
+/// Turn steps of @p turn_angle at 1 rad/s (one step takes turn_angle s), at most @p max_turns, no settle time.
+DecisionParams quickTurns(double turn_angle, int max_turns = DecisionParams().max_turns)
+{
+  DecisionParams p;
+  p.settle_time = 0.0;
+  p.turn_angle = turn_angle;
+  p.turn_speed = 1.0;
+  p.max_turns = max_turns;
+  return p;
+}
+
 bool contains(const std::string& text, const char* part)
 {
   return text.find(part) != std::string::npos;
@@ -294,11 +305,7 @@ TEST(DecisionMaker, TurnsRightWhenTheRightIsFreer)
 
 TEST(DecisionMaker, GivesUpAfterMaxTurnsAndDrivesWhenTheWayClears)
 {
-  DecisionParams p;
-  p.settle_time = 0.0;
-  p.max_turns = 2;
-  p.turn_angle = 0.1;
-  p.turn_speed = 1.0;
+  DecisionParams p = quickTurns(0.1, 2);
   p.stale_timeout = 50.0;
   DecisionMaker dm(p);
   double t = 0.0;
@@ -336,11 +343,7 @@ TEST(DecisionMaker, GivesUpAfterMaxTurnsAndDrivesWhenTheWayClears)
 
 TEST(DecisionMaker, LowCoverageAfterATurnMeansTurnAgain)
 {
-  DecisionParams p;
-  p.settle_time = 0.0;
-  p.turn_angle = 0.1;
-  p.turn_speed = 1.0;
-  DecisionMaker dm(p);
+  DecisionMaker dm(quickTurns(0.1));
   dm.onFrame(frame(1.0, 0.1, 0.1));
   EXPECT_EQ(dm.step(1.0, idle()).command, Command::TURN);
   EXPECT_EQ(dm.step(1.2, idle()).reason, Reason::LOOKING);
@@ -434,12 +437,7 @@ TEST(DecisionMaker, DisabledAndDriverNotReadyStop)
 
 TEST(DecisionMaker, EveryDecisionHasAReasonText)
 {
-  DecisionParams p;
-  p.settle_time = 0.0;
-  p.max_turns = 1;
-  p.turn_angle = 0.05;
-  p.turn_speed = 1.0;
-  DecisionMaker dm(p);
+  DecisionMaker dm(quickTurns(0.05, 1));
   double t = 0.0;
   const double frees[] = { 0.8, 0.4, 0.1, 0.8, 0.05, 0.05, 0.05, 0.8 };
   for (int i = 0; i < 200; ++i)

@@ -93,6 +93,15 @@ public:
       to_robot_.emplace_back(t + latency, b);
   }
 
+  /// drv.startGoal() now, its commands (wait-distance mode) queued for the robot; true if accepted.
+  bool startGoal(double distance, double speed)
+  {
+    Bytes out;
+    const bool accepted = drv.startGoal(distance, speed, t, out).accepted;
+    toRobot(out);
+    return accepted;
+  }
+
   bool startUp()
   {
     connect();
@@ -311,9 +320,7 @@ TEST(DriverSimLoop, HeadingHoldKeepsLineDespiteNoisyOdometry)
   p.seed = 3;
   Loop l(cd::DriverConfig(), p);
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.5, 0.2, l.t, out).accepted);
-  l.toRobot(out);
+  ASSERT_TRUE(l.startGoal(0.5, 0.2));
   ASSERT_TRUE(l.runUntil([&] { return !l.outcomes.empty(); }, 20.0));
   EXPECT_EQ(l.outcomes[0].reason, cd::StopReason::REACHED);
   EXPECT_NEAR(l.sim.truePose().x, 0.5, 0.02);
@@ -359,8 +366,7 @@ TEST(DriverSimLoop, CmdVelOverridesGoal)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(1.0, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(1.0, 0.2));
   l.run(0.3);
   l.drv.setVelocity(0.0, 0.5, l.t, nullptr);
   l.run(0.05);
@@ -372,8 +378,7 @@ TEST(DriverSimLoop, ZeroCmdVelLeavesGoalAlone)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.2, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(0.2, 0.2));
   for (int i = 0; i < 5; ++i)
   {
     EXPECT_TRUE(l.drv.setVelocity(0.0, 0.0, l.t, nullptr));
@@ -390,8 +395,7 @@ TEST(DriverSimLoop, CmdVelIgnoredDuringGoalWhenConfigured)
   c.cmd_vel_preempts_goal = false;
   Loop l(c);
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.2, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(0.2, 0.2));
   std::string err;
   EXPECT_FALSE(l.drv.setVelocity(0.3, 1.0, l.t, &err));
   EXPECT_FALSE(err.empty());
@@ -535,8 +539,7 @@ TEST(DriverSimLoop, GarbageIsCountedAndSurvived)
   Loop l;
   l.corrupt_every = 3;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.5, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(0.5, 0.2));
   ASSERT_TRUE(l.runUntil([&] { return !l.outcomes.empty(); }, 15.0));
   EXPECT_EQ(l.outcomes[0].reason, cd::StopReason::REACHED);
   l.run(0.3);
@@ -573,8 +576,7 @@ TEST(DriverSimLoop, DisconnectAbortsGoal)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(1.0, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(1.0, 0.2));
   l.run(0.3);
   l.disconnect();
   l.drv.takeOutcomes(l.outcomes);
@@ -603,9 +605,7 @@ TEST(DriverSimLoop, WaitDistanceOptIn)
   c.use_wait_distance = true;
   Loop l(c);
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.3, 0.2, l.t, out).accepted);
-  l.toRobot(out);
+  ASSERT_TRUE(l.startGoal(0.3, 0.2));
   l.run(0.1);
   EXPECT_TRUE(l.sim.waiting());
   EXPECT_TRUE(l.drv.waitDistanceActive());
@@ -630,9 +630,7 @@ TEST(DriverSimLoop, WaitDistanceHeldBackTimesOutAndSaysSo)
   l.sim.setContact(0);
   l.run(0.1);
   ASSERT_TRUE(l.drv.resetHazard(&msg));
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.3, 0.2, l.t, out).accepted);
-  l.toRobot(out);
+  ASSERT_TRUE(l.startGoal(0.3, 0.2));
   l.run(0.3);
   // The robot runs into an obstacle that holds it back (the simulator stalls forward motion while
   // in contact). The host ends the goal on the bumper, but the robot itself stays blocked in its

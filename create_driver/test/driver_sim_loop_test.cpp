@@ -599,11 +599,20 @@ TEST(DriverSimLoop, ShutdownLeavesRobotPassiveAndStill)
   EXPECT_FALSE(l.sim.streaming());
 }
 
-TEST(DriverSimLoop, WaitDistanceOptIn)
+namespace
+{
+/// The driver with Wait Distance goals (use_wait_distance, opt-in).
+cd::DriverConfig waitDistance()
 {
   cd::DriverConfig c;
   c.use_wait_distance = true;
-  Loop l(c);
+  return c;
+}
+}  // namespace
+
+TEST(DriverSimLoop, WaitDistanceOptIn)
+{
+  Loop l(waitDistance());
   ASSERT_TRUE(l.startUp());
   ASSERT_TRUE(l.startGoal(0.3, 0.2));
   l.run(0.1);
@@ -619,8 +628,7 @@ TEST(DriverSimLoop, WaitDistanceOptIn)
 
 TEST(DriverSimLoop, WaitDistanceHeldBackTimesOutAndSaysSo)
 {
-  cd::DriverConfig c;
-  c.use_wait_distance = true;
+  cd::DriverConfig c = waitDistance();
   c.drive_distance.stall_timeout = 1.0;
   Loop l(c);
   ASSERT_TRUE(l.startUp());

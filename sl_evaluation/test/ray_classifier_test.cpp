@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -161,11 +162,18 @@ TEST(RayConfig, BadValuesThrowNamingTheField)
 
 namespace
 {
-/// classify() and a log line of the counts: "<what>, seed <seed>: <counts>; in view <n>".
-void classifyAndLog(const sl_sim::Scene& scene, uint64_t seed, const char* what, Frame& f)
+/// Classifies @p scene with seeds 1 to @p seeds, logs the counts of each ("<what>, seed <seed>:
+/// <counts>; in view <n>") and runs @p check on it.
+void forEachSeed(const sl_sim::Scene& scene, uint64_t seeds, const char* what,
+                 const std::function<void(const Frame&, uint64_t)>& check)
 {
-  classify(scene, seed, f);
-  std::printf("%s, seed %d: %s; in view %d\n", what, static_cast<int>(seed), countsText(f).c_str(), inView());
+  Frame f;
+  for (uint64_t seed = 1; seed <= seeds; ++seed)
+  {
+    classify(scene, seed, f);
+    std::printf("%s, seed %d: %s; in view %d\n", what, static_cast<int>(seed), countsText(f).c_str(), inView());
+    check(f, seed);
+  }
 }
 }  // namespace
 
@@ -181,25 +189,23 @@ TEST(RayClassifier, StateNames)
 TEST(RayClassifier, PlaneAt3mIsDark)
 {
   const sl_sim::Scene scene = planeScene(3.0, 0.8, false);
-  Frame f;
-  for (uint64_t seed = 1; seed <= 3; ++seed)
-  {
-    classifyAndLog(scene, seed, "plane 3 m", f);
-    EXPECT_GE(count(f, RayState::Dark), 0.9 * inView()) << seed;
-    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane 3 m"), 0);
-  }
+  forEachSeed(scene, 3, "plane 3 m",
+              [&](const Frame& f, uint64_t seed)
+              {
+                EXPECT_GE(count(f, RayState::Dark), 0.9 * inView()) << seed;
+                EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane 3 m"), 0);
+              });
 }
 
 TEST(RayClassifier, PlaneAt25cmIsLitNeverDark)
 {
   const sl_sim::Scene scene = planeScene(0.25, 0.8, false);
-  Frame f;
-  for (uint64_t seed = 1; seed <= 2; ++seed)
-  {
-    classifyAndLog(scene, seed, "plane 0.25 m", f);
-    EXPECT_GE(count(f, RayState::Lit), 0.9 * inView()) << seed;
-    EXPECT_EQ(count(f, RayState::Dark, false), 0) << seed;
-  }
+  forEachSeed(scene, 2, "plane 0.25 m",
+              [&](const Frame& f, uint64_t seed)
+              {
+                EXPECT_GE(count(f, RayState::Lit), 0.9 * inView()) << seed;
+                EXPECT_EQ(count(f, RayState::Dark, false), 0) << seed;
+              });
 }
 
 /// Dark rays whose free part ends inside the image (not where the segment leaves the view).
@@ -279,15 +285,14 @@ TEST(RayClassifier, BlackSurfaceAt1mIsDark)
 TEST(RayClassifier, WhitePlaneAt700mmIsDecoded)
 {
   const sl_sim::Scene scene = sl_sim::loadScene(findScene({ "plane_700" }));
-  Frame f;
-  for (uint64_t seed = 1; seed <= 2; ++seed)
-  {
-    classifyAndLog(scene, seed, "plane_700", f);
-    // Lit: the primitives whose segment ends on a blob cut by the image's left border.
-    EXPECT_GE(f.counts[static_cast<size_t>(RayState::Decoded)], 820) << seed;
-    EXPECT_LE(f.counts[static_cast<size_t>(RayState::Lit)], 60) << seed;
-    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane_700"), 0);
-  }
+  forEachSeed(scene, 2, "plane_700",
+              [&](const Frame& f, uint64_t seed)
+              {
+                // Lit: the primitives whose segment ends on a blob cut by the image's left border.
+                EXPECT_GE(f.counts[static_cast<size_t>(RayState::Decoded)], 820) << seed;
+                EXPECT_LE(f.counts[static_cast<size_t>(RayState::Lit)], 60) << seed;
+                EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane_700"), 0);
+              });
 }
 
 TEST(RayClassifier, DimPlanesNeverLetAFreeRayThrough)

@@ -64,6 +64,13 @@ DecisionParams quickTurns(double turn_angle, int max_turns = DecisionParams().ma
   return p;
 }
 
+/// Steps @p dm at t = 1 s on a frame with the way free: the command it gives (DRIVE).
+Command driveOnAFreeWay(DecisionMaker& dm)
+{
+  dm.onFrame(frame(1.0, kInf, 0.8));
+  return dm.step(1.0, idle()).command;
+}
+
 bool contains(const std::string& text, const char* part)
 {
   return text.find(part) != std::string::npos;
@@ -187,8 +194,7 @@ TEST(DecisionMaker, LowCoverageStopsAndPartialCoverageSlows)
 TEST(DecisionMaker, NearerObstaclePreemptsTheRunningGoal)
 {
   DecisionMaker dm;
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   // An obstacle appears at 0.4 m while 0.6 m remain.
   dm.onFrame(frame(1.2, 0.4, 0.4));
   const Decision& d = dm.step(1.2, running(0.6, 0.2));
@@ -356,8 +362,7 @@ TEST(DecisionMaker, LowCoverageAfterATurnMeansTurnAgain)
 TEST(DecisionMaker, WaitsForAFreshFrameAfterAGoalEnds)
 {
   DecisionMaker dm;
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   dm.onFrame(frame(4.0, kInf, 0.8));
   EXPECT_EQ(dm.step(4.05, running(0.6, 0.2)).command, Command::NONE);
   dm.onGoalEnded(GoalEnd::REACHED, 4.1, "reached");
@@ -382,8 +387,7 @@ TEST(DecisionMaker, DriverHazardStartsATurn)
   DecisionParams p;
   p.settle_time = 0.0;
   DecisionMaker dm(p);
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   dm.onGoalEnded(GoalEnd::HAZARD, 1.1, "bumper");
   const Decision& d = dm.step(1.1, idle());
   EXPECT_EQ(d.command, Command::TURN);
@@ -393,8 +397,7 @@ TEST(DecisionMaker, DriverHazardStartsATurn)
 TEST(DecisionMaker, DriverFailureIsReported)
 {
   DecisionMaker dm;
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   dm.onGoalEnded(GoalEnd::FAILED, 1.1, "timeout");
   const Decision& d = dm.step(1.1, idle());
   EXPECT_EQ(d.state, State::STOPPED);

@@ -1,6 +1,15 @@
-# The install rules every nodelet package of the stack writes, once (sl_params' CFG_EXTRAS: every
-# nodelet package finds sl_params already). In a package, after its targets:
+# What every nodelet package of the stack writes in its CMakeLists.txt, once (sl_params' CFG_EXTRAS:
+# every nodelet package finds sl_params already). In a package:
+#   sl_add_node(<name>_node)
 #   sl_install_package(LIBRARIES <pkg>_core <pkg>_nodelets PROGRAMS <name>_node SHARE launch config)
+
+# sl_add_node(<name>): the executable <name> of src/nodes/<name>.cpp, a node that only loads its
+# nodelet (doc/CONVENTIONS.md), built against catkin's headers (as system headers) and libraries.
+function(sl_add_node name)
+  add_executable(${name} src/nodes/${name}.cpp)
+  target_include_directories(${name} SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+  target_link_libraries(${name} ${catkin_LIBRARIES})
+endfunction()
 
 # sl_install_package([LIBRARIES <target>...] [PROGRAMS <target>...] [SHARE <file or dir>...])
 # LIBRARIES: libraries, into the package's lib folder. PROGRAMS: executables, into the package's

@@ -22,6 +22,8 @@
 namespace
 {
 
+using sl_bringup_test::stepBetween;
+using sl_bringup_test::turnBetween;
 using sl_bringup_test::yawOf;
 
 class Room : public sl_bringup_test::SimWatch
@@ -60,8 +62,8 @@ protected:
   {
     if (!previous)
       return;
-    path_ += std::hypot(now.position.x - previous->position.x, now.position.y - previous->position.y);
-    turned_ += std::abs(std::remainder(yawOf(now) - yawOf(*previous), 2.0 * M_PI));
+    path_ += stepBetween(now, *previous);
+    turned_ += turnBetween(now, *previous);
   }
 
   void onStatus(const sl_obstacle::ObstacleStatus& msg) override

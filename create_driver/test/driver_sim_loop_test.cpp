@@ -93,6 +93,15 @@ public:
       to_robot_.emplace_back(t + latency, b);
   }
 
+  /// Sets the simulator's contact bits (bumps::..., 0: none) and runs 0.1 s; true if the driver's
+  /// hazard latch is set then.
+  bool contact(uint8_t bits)
+  {
+    sim.setContact(bits);
+    run(0.1);
+    return drv.latch().latched();
+  }
+
   /// drv.startGoal() now, its commands (wait-distance mode) queued for the robot; true if accepted.
   bool startGoal(double distance, double speed)
   {
@@ -450,9 +459,7 @@ TEST(DriverSimLoop, ResetRefusedWhileBumperPressed)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  l.sim.setContact(cd::bumps::BUMP_RIGHT);
-  l.run(0.1);
-  ASSERT_TRUE(l.drv.latch().latched());
+  ASSERT_TRUE(l.contact(cd::bumps::BUMP_RIGHT));
   std::string msg;
   EXPECT_FALSE(l.drv.resetHazard(&msg));
   EXPECT_NE(msg.find("bumper"), std::string::npos);
@@ -462,9 +469,7 @@ TEST(DriverSimLoop, BackingAwayReleasesBumpLatch)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  l.sim.setContact(cd::bumps::BUMP_RIGHT);
-  l.run(0.1);
-  ASSERT_TRUE(l.drv.latch().latched());
+  ASSERT_TRUE(l.contact(cd::bumps::BUMP_RIGHT));
   const double x0 = l.sim.truePose().x;
   for (int i = 0; i < 5; ++i)
   {
@@ -632,11 +637,9 @@ TEST(DriverSimLoop, WaitDistanceHeldBackTimesOutAndSaysSo)
   c.drive_distance.stall_timeout = 1.0;
   Loop l(c);
   ASSERT_TRUE(l.startUp());
-  l.sim.setContact(cd::bumps::BUMP_LEFT);
-  l.run(0.1);
+  l.contact(cd::bumps::BUMP_LEFT);
+  l.contact(0);
   std::string msg;
-  l.sim.setContact(0);
-  l.run(0.1);
   ASSERT_TRUE(l.drv.resetHazard(&msg));
   ASSERT_TRUE(l.startGoal(0.3, 0.2));
   l.run(0.3);

@@ -22,12 +22,9 @@
 namespace
 {
 
-using sl_bringup_test::privateParam;
-using sl_bringup_test::stepBetween;
-using sl_bringup_test::turnBetween;
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 
-class ClosedLoop : public sl_bringup_test::SimWatch
+class ClosedLoop : public SimWatch
 {
 protected:
   void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override

@@ -24,14 +24,10 @@
 namespace
 {
 
-using sl_bringup_test::privateParam;
-using sl_bringup_test::stepBetween;
-using sl_bringup_test::turnBetween;
-using sl_bringup_test::yawDifference;
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 using S = sl_obstacle::ObstacleStatus;
 
-class Filter : public sl_bringup_test::SimWatch
+class Filter : public SimWatch
 {
 protected:
   void SetUp() override

@@ -22,11 +22,9 @@
 namespace
 {
 
-using sl_bringup_test::stepBetween;
-using sl_bringup_test::turnBetween;
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 
-class Room : public sl_bringup_test::SimWatch
+class Room : public SimWatch
 {
 protected:
   void SetUp() override
@@ -111,9 +109,9 @@ protected:
 
 TEST_F(Room, RunsAMinuteWithoutContact)
 {
-  const double duration = sl_bringup_test::privateParam("duration", 60.0);
-  const double min_travel = sl_bringup_test::privateParam("min_travel", 0.3);
-  const double min_turn = sl_bringup_test::privateParam("min_turn", 0.5);
+  const double duration = privateParam("duration", 60.0);
+  const double min_travel = privateParam("min_travel", 0.3);
+  const double min_turn = privateParam("min_turn", 0.5);
 
   // The minute starts when the system has made its first decision on a cloud.
   ASSERT_TRUE(waitForSystem(60.0)) << "no true_pose from create_sim or no obstacle_status";

@@ -1,13 +1,24 @@
 # What every nodelet package of the stack writes in its CMakeLists.txt, once (sl_params' CFG_EXTRAS:
 # every nodelet package finds sl_params already). In a package:
+#   sl_add_nodelets(<pkg>_nodelets src/nodelets/<name>_nodelet.cpp LIBRARIES <pkg>_core)
 #   sl_add_node(<name>_node)
 #   sl_install_package(LIBRARIES <pkg>_core <pkg>_nodelets PROGRAMS <name>_node SHARE launch config)
 
+# sl_add_nodelets(<target> <source>... [LIBRARIES <lib>...] [INCLUDE_DIRS <dir>...]): the library of
+# a package's nodelets (the ROS wrappers of its core, given in LIBRARIES), built against catkin's
+# headers and libraries.
+function(sl_add_nodelets target)
+  cmake_parse_arguments(ARG "" "" "LIBRARIES;INCLUDE_DIRS" ${ARGN})
+  add_library(${target} ${ARG_UNPARSED_ARGUMENTS})
+  target_include_directories(${target} PRIVATE ${ARG_INCLUDE_DIRS} ${catkin_INCLUDE_DIRS})
+  target_link_libraries(${target} ${ARG_LIBRARIES} ${catkin_LIBRARIES})
+endfunction()
+
 # sl_add_node(<name>): the executable <name> of src/nodes/<name>.cpp, a node that only loads its
-# nodelet (doc/CONVENTIONS.md), built against catkin's headers (as system headers) and libraries.
+# nodelet (doc/CONVENTIONS.md), built against catkin's headers and libraries.
 function(sl_add_node name)
   add_executable(${name} src/nodes/${name}.cpp)
-  target_include_directories(${name} SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+  target_include_directories(${name} PRIVATE ${catkin_INCLUDE_DIRS})
   target_link_libraries(${name} ${catkin_LIBRARIES})
 endfunction()
 

@@ -154,15 +154,22 @@ bool waitUntil(const std::function<bool()>& done, double timeout_s = 20.0)
   return done();
 }
 
+/// @p o with retries after @p initial_backoff s, doubling up to @p max_backoff s.
+CaptureOptions withBackoff(CaptureOptions o, double initial_backoff, double max_backoff)
+{
+  o.initial_backoff = initial_backoff;
+  o.max_backoff = max_backoff;
+  return o;
+}
+
+/// Short grabs and retries; stall and first-frame timeouts long enough never to fire by accident.
 CaptureOptions fastOptions()
 {
   CaptureOptions o;
   o.grab_timeout = 0.02;
-  o.initial_backoff = 0.005;
-  o.max_backoff = 0.02;
   o.stall_timeout = 5.0;
   o.first_frame_timeout = 5.0;
-  return o;
+  return withBackoff(o, 0.005, 0.02);
 }
 
 /// Records events and frames delivered by a CaptureThread.
@@ -326,9 +333,7 @@ TEST_F(CameraCaptureThread, CountsTimestampGapsWhenTheSourceHasNoSequence)
 TEST_F(CameraCaptureThread, BackoffDoublesUpToTheCap)
 {
   device_->present = false;
-  CaptureOptions o = fastOptions();
-  o.initial_backoff = 0.001;
-  o.max_backoff = 0.004;
+  const CaptureOptions o = withBackoff(fastOptions(), 0.001, 0.004);
   CaptureThread capture(fakeSource(), o, nullptr, rec_.eventsCallback());
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return rec_.eventsOf(CaptureEvent::Type::Error).size() >= 5; }));
@@ -364,9 +369,7 @@ TEST_F(CameraCaptureThread, StalledSourceIsTreatedAsLostAndReopened)
 TEST_F(CameraCaptureThread, StopReturnsDuringALongBackoff)
 {
   device_->present = false;
-  CaptureOptions o = fastOptions();
-  o.initial_backoff = 3600.0;
-  o.max_backoff = 3600.0;
+  const CaptureOptions o = withBackoff(fastOptions(), 3600.0, 3600.0);
   CaptureThread capture(fakeSource(), o, nullptr);
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 1; }));
@@ -446,11 +449,9 @@ TEST_F(CameraCaptureThread, ADeviceThatOpensButNeverDeliversIsOverdueAndNeverRec
 TEST_F(CameraCaptureThread, RecoveryIsAnnouncedOnlyOnceFramesArriveAndBackoffGrowsUntilThen)
 {
   device_->stalled = true;
-  CaptureOptions o = fastOptions();
+  CaptureOptions o = withBackoff(fastOptions(), 0.001, 0.004);
   o.stall_timeout = 0.01;
   o.first_frame_timeout = 0.01;
-  o.initial_backoff = 0.001;
-  o.max_backoff = 0.004;
   CaptureThread capture = recordedCapture(o);
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return rec_.eventsOf(CaptureEvent::Type::Error).size() >= 4; }));

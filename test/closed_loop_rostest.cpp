@@ -22,10 +22,9 @@
 namespace
 {
 
-using sl_bringup_test::privateParam;
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 
-class ClosedLoop : public sl_bringup_test::SimWatch
+class ClosedLoop : public SimWatch
 {
 protected:
   void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
@@ -35,10 +34,7 @@ protected:
       motion_reference_ = now;
       last_motion_ = ros::Time::now();
     }
-    const double dx = now.position.x - motion_reference_.position.x;
-    const double dy = now.position.y - motion_reference_.position.y;
-    const double dyaw = std::remainder(yawOf(now) - yawOf(motion_reference_), 2.0 * M_PI);
-    if (std::hypot(dx, dy) > 0.001 || std::abs(dyaw) > 0.01)
+    if (stepBetween(now, motion_reference_) > 0.001 || turnBetween(now, motion_reference_) > 0.01)
     {
       motion_reference_ = now;
       last_motion_ = ros::Time::now();

@@ -27,19 +27,18 @@
 namespace
 {
 
-using sl_bringup_test::privateParam;
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 
-class Explore : public sl_bringup_test::SimWatch
+class Explore : public SimWatch
 {
 protected:
   void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
   {
     if (previous)
     {
-      const double step = std::hypot(now.position.x - previous->position.x, now.position.y - previous->position.y);
+      const double step = stepBetween(now, *previous);
       path_ += step;
-      const double dyaw = std::abs(std::remainder(yawOf(now) - yawOf(*previous), 2.0 * M_PI));
+      const double dyaw = turnBetween(now, *previous);
       const ros::WallTime t = ros::WallTime::now();
       // A stop before an obstacle is measured where the robot stands when it starts to turn away, or
       // after 0.3 s without moving.

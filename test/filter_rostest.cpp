@@ -12,6 +12,7 @@
 // Every run: no contact, no bumper.
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <thread>
 
@@ -23,11 +24,10 @@
 namespace
 {
 
-using sl_bringup_test::privateParam;
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 using S = sl_obstacle::ObstacleStatus;
 
-class Filter : public sl_bringup_test::SimWatch
+class Filter : public SimWatch
 {
 protected:
   void SetUp() override
@@ -63,8 +63,8 @@ protected:
     const ros::Time t = ros::Time::now();
     if (previous)
     {
-      const double step = std::hypot(now.position.x - previous->position.x, now.position.y - previous->position.y);
-      const double turn = std::abs(std::remainder(yawOf(now) - yawOf(*previous), 2.0 * M_PI));
+      const double step = stepBetween(now, *previous);
+      const double turn = turnBetween(now, *previous);
       path_ += step;
       if (step > 2e-4)
         last_move_ = t;
@@ -133,6 +133,20 @@ protected:
     command(0.0, 0.0, 0.5);
   }
 
+  /// The @p motion last seen at @p last (last_move_ or last_turn_, read under the lock) ended after
+  /// @p since (when @p cause happened) and within @p timeout (the parameter @p param, plus 0.35 s of
+  /// message latency), and the filter's status gives @p reason_code.
+  void expectEndedWithin(const ros::Time& last, const ros::Time& since, const char* motion, const char* cause,
+                         const char* param, double timeout, std::uint8_t reason_code)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double stopped_after = (last - since).toSec();
+    ROS_INFO("filter wall: %s ended %.3f s after %s (%s %.2f)", motion, stopped_after, cause, param, timeout);
+    EXPECT_LE(stopped_after, timeout + 0.35) << motion << " went on after " << cause;
+    EXPECT_GT(stopped_after, 0.0) << motion << " had ended before " << cause;
+    EXPECT_EQ(last_status_.reason_code, reason_code) << last_status_.reason;
+  }
+
   void runWall();
   void runArcs();
   void runTakeover();
@@ -181,7 +195,7 @@ void Filter::runWall()
   command(0.0, 0.8, 1.0);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    EXPECT_GT(std::abs(std::remainder(yawOf(pose_) - yaw0, 2.0 * M_PI)), 0.3) << "a turn in place was held back";
+    EXPECT_GT(yawDifference(yawOf(pose_), yaw0), 0.3) << "a turn in place was held back";
   }
   command(0.0, -0.8, 2.0);
   command(0.0, 0.8, 1.0);
@@ -230,29 +244,15 @@ void Filter::runWall()
   gate_open_ = false;
   const ros::Time gated = ros::Time::now();
   command(0.2, 0.0, 2.5);
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const double stopped_after = (last_move_ - gated).toSec();
-    ROS_INFO("filter wall: forward motion ended %.3f s after the cloud stopped (stale_timeout %.2f)", stopped_after,
-             stale_timeout);
-    EXPECT_LE(stopped_after, stale_timeout + 0.35) << "kept driving on a stale cloud";
-    EXPECT_GT(stopped_after, 0.0) << "the robot was not driving when the cloud stopped";
-    EXPECT_EQ(last_status_.reason_code, S::REASON_STALE_DATA) << last_status_.reason;
-  }
+  expectEndedWithin(last_move_, gated, "forward motion", "the cloud stopped", "stale_timeout", stale_timeout,
+                    S::REASON_STALE_DATA);
   gate_open_ = true;
   // The user stops publishing while the robot turns: it stops within input_timeout.
   command(0.0, 0.6, 2.0);
   const ros::Time quiet = last_command_;
   ros::WallDuration(input_timeout + 1.5).sleep();
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const double stopped_after = (last_turn_ - quiet).toSec();
-    ROS_INFO("filter wall: turning ended %.3f s after the last command (input_timeout %.2f)", stopped_after,
-             input_timeout);
-    EXPECT_LE(stopped_after, input_timeout + 0.35) << "kept turning without commands";
-    EXPECT_GT(stopped_after, 0.0) << "the turn never ran";
-    EXPECT_EQ(last_status_.reason_code, S::REASON_INPUT_TIMEOUT) << last_status_.reason;
-  }
+  expectEndedWithin(last_turn_, quiet, "turning", "the last command", "input_timeout", input_timeout,
+                    S::REASON_INPUT_TIMEOUT);
 }
 
 void Filter::runArcs()
@@ -288,7 +288,7 @@ void Filter::runTakeover()
     std::lock_guard<std::mutex> lock(mutex_);
     EXPECT_TRUE(last_status_.teleop) << "cmd_vel_in did not take over: " << last_status_.reason;
     EXPECT_EQ(last_status_.reason_code, S::REASON_PASSED) << last_status_.reason;
-    EXPECT_GT(std::abs(std::remainder(yawOf(pose_) - yaw0, 2.0 * M_PI)), 0.3) << "the user's turn did not happen";
+    EXPECT_GT(yawDifference(yawOf(pose_), yaw0), 0.3) << "the user's turn did not happen";
   }
   // Autonomy waits teleop_hold after the last command, then decides again.
   ASSERT_TRUE(waitFor(hold + 5.0, [&] { return !last_status_.teleop; })) << "autonomy never resumed";

@@ -22,9 +22,9 @@
 namespace
 {
 
-using sl_bringup_test::yawOf;
+using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
 
-class Room : public sl_bringup_test::SimWatch
+class Room : public SimWatch
 {
 protected:
   void SetUp() override
@@ -60,8 +60,8 @@ protected:
   {
     if (!previous)
       return;
-    path_ += std::hypot(now.position.x - previous->position.x, now.position.y - previous->position.y);
-    turned_ += std::abs(std::remainder(yawOf(now) - yawOf(*previous), 2.0 * M_PI));
+    path_ += stepBetween(now, *previous);
+    turned_ += turnBetween(now, *previous);
   }
 
   void onStatus(const sl_obstacle::ObstacleStatus& msg) override
@@ -109,9 +109,9 @@ protected:
 
 TEST_F(Room, RunsAMinuteWithoutContact)
 {
-  const double duration = sl_bringup_test::privateParam("duration", 60.0);
-  const double min_travel = sl_bringup_test::privateParam("min_travel", 0.3);
-  const double min_turn = sl_bringup_test::privateParam("min_turn", 0.5);
+  const double duration = privateParam("duration", 60.0);
+  const double min_travel = privateParam("min_travel", 0.3);
+  const double min_turn = privateParam("min_turn", 0.5);
 
   // The minute starts when the system has made its first decision on a cloud.
   ASSERT_TRUE(waitForSystem(60.0)) << "no true_pose from create_sim or no obstacle_status";

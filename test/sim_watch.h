@@ -34,6 +34,24 @@ inline double yawOf(const geometry_msgs::Pose& p)
   return 2.0 * std::atan2(p.orientation.z, p.orientation.w);
 }
 
+/// |@p a - @p b| of two yaws, wrapped to [0, pi], rad.
+inline double yawDifference(double a, double b)
+{
+  return std::abs(std::remainder(a - b, 2.0 * M_PI));
+}
+
+/// How far the robot turned from pose @p b to pose @p a, in [0, pi], rad.
+inline double turnBetween(const geometry_msgs::Pose& a, const geometry_msgs::Pose& b)
+{
+  return yawDifference(yawOf(a), yawOf(b));
+}
+
+/// Distance between the positions of two poses in the x-y plane, m.
+inline double stepBetween(const geometry_msgs::Pose& a, const geometry_msgs::Pose& b)
+{
+  return std::hypot(a.position.x - b.position.x, a.position.y - b.position.y);
+}
+
 /**
  * Base fixture: subscribes the four topics, keeps the latest true pose, counts contact and hazard
  * messages, ORs the contact bits and latches a bumper. Subclasses see every pose and decision in

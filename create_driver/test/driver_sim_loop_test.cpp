@@ -93,6 +93,24 @@ public:
       to_robot_.emplace_back(t + latency, b);
   }
 
+  /// Sets the simulator's contact bits (bumps::..., 0: none) and runs 0.1 s; true if the driver's
+  /// hazard latch is set then.
+  bool contact(uint8_t bits)
+  {
+    sim.setContact(bits);
+    run(0.1);
+    return drv.latch().latched();
+  }
+
+  /// drv.startGoal() now, its commands (wait-distance mode) queued for the robot; true if accepted.
+  bool startGoal(double distance, double speed)
+  {
+    Bytes out;
+    const bool accepted = drv.startGoal(distance, speed, t, out).accepted;
+    toRobot(out);
+    return accepted;
+  }
+
   bool startUp()
   {
     connect();
@@ -311,9 +329,7 @@ TEST(DriverSimLoop, HeadingHoldKeepsLineDespiteNoisyOdometry)
   p.seed = 3;
   Loop l(cd::DriverConfig(), p);
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.5, 0.2, l.t, out).accepted);
-  l.toRobot(out);
+  ASSERT_TRUE(l.startGoal(0.5, 0.2));
   ASSERT_TRUE(l.runUntil([&] { return !l.outcomes.empty(); }, 20.0));
   EXPECT_EQ(l.outcomes[0].reason, cd::StopReason::REACHED);
   EXPECT_NEAR(l.sim.truePose().x, 0.5, 0.02);
@@ -359,8 +375,7 @@ TEST(DriverSimLoop, CmdVelOverridesGoal)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(1.0, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(1.0, 0.2));
   l.run(0.3);
   l.drv.setVelocity(0.0, 0.5, l.t, nullptr);
   l.run(0.05);
@@ -372,8 +387,7 @@ TEST(DriverSimLoop, ZeroCmdVelLeavesGoalAlone)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.2, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(0.2, 0.2));
   for (int i = 0; i < 5; ++i)
   {
     EXPECT_TRUE(l.drv.setVelocity(0.0, 0.0, l.t, nullptr));
@@ -390,8 +404,7 @@ TEST(DriverSimLoop, CmdVelIgnoredDuringGoalWhenConfigured)
   c.cmd_vel_preempts_goal = false;
   Loop l(c);
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.2, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(0.2, 0.2));
   std::string err;
   EXPECT_FALSE(l.drv.setVelocity(0.3, 1.0, l.t, &err));
   EXPECT_FALSE(err.empty());
@@ -446,9 +459,7 @@ TEST(DriverSimLoop, ResetRefusedWhileBumperPressed)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  l.sim.setContact(cd::bumps::BUMP_RIGHT);
-  l.run(0.1);
-  ASSERT_TRUE(l.drv.latch().latched());
+  ASSERT_TRUE(l.contact(cd::bumps::BUMP_RIGHT));
   std::string msg;
   EXPECT_FALSE(l.drv.resetHazard(&msg));
   EXPECT_NE(msg.find("bumper"), std::string::npos);
@@ -458,9 +469,7 @@ TEST(DriverSimLoop, BackingAwayReleasesBumpLatch)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  l.sim.setContact(cd::bumps::BUMP_RIGHT);
-  l.run(0.1);
-  ASSERT_TRUE(l.drv.latch().latched());
+  ASSERT_TRUE(l.contact(cd::bumps::BUMP_RIGHT));
   const double x0 = l.sim.truePose().x;
   for (int i = 0; i < 5; ++i)
   {
@@ -535,8 +544,7 @@ TEST(DriverSimLoop, GarbageIsCountedAndSurvived)
   Loop l;
   l.corrupt_every = 3;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.5, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(0.5, 0.2));
   ASSERT_TRUE(l.runUntil([&] { return !l.outcomes.empty(); }, 15.0));
   EXPECT_EQ(l.outcomes[0].reason, cd::StopReason::REACHED);
   l.run(0.3);
@@ -573,8 +581,7 @@ TEST(DriverSimLoop, DisconnectAbortsGoal)
 {
   Loop l;
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(1.0, 0.2, l.t, out).accepted);
+  ASSERT_TRUE(l.startGoal(1.0, 0.2));
   l.run(0.3);
   l.disconnect();
   l.drv.takeOutcomes(l.outcomes);
@@ -597,15 +604,22 @@ TEST(DriverSimLoop, ShutdownLeavesRobotPassiveAndStill)
   EXPECT_FALSE(l.sim.streaming());
 }
 
-TEST(DriverSimLoop, WaitDistanceOptIn)
+namespace
+{
+/// The driver with Wait Distance goals (use_wait_distance, opt-in).
+cd::DriverConfig waitDistance()
 {
   cd::DriverConfig c;
   c.use_wait_distance = true;
-  Loop l(c);
+  return c;
+}
+}  // namespace
+
+TEST(DriverSimLoop, WaitDistanceOptIn)
+{
+  Loop l(waitDistance());
   ASSERT_TRUE(l.startUp());
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.3, 0.2, l.t, out).accepted);
-  l.toRobot(out);
+  ASSERT_TRUE(l.startGoal(0.3, 0.2));
   l.run(0.1);
   EXPECT_TRUE(l.sim.waiting());
   EXPECT_TRUE(l.drv.waitDistanceActive());
@@ -619,20 +633,15 @@ TEST(DriverSimLoop, WaitDistanceOptIn)
 
 TEST(DriverSimLoop, WaitDistanceHeldBackTimesOutAndSaysSo)
 {
-  cd::DriverConfig c;
-  c.use_wait_distance = true;
+  cd::DriverConfig c = waitDistance();
   c.drive_distance.stall_timeout = 1.0;
   Loop l(c);
   ASSERT_TRUE(l.startUp());
-  l.sim.setContact(cd::bumps::BUMP_LEFT);
-  l.run(0.1);
+  l.contact(cd::bumps::BUMP_LEFT);
+  l.contact(0);
   std::string msg;
-  l.sim.setContact(0);
-  l.run(0.1);
   ASSERT_TRUE(l.drv.resetHazard(&msg));
-  Bytes out;
-  ASSERT_TRUE(l.drv.startGoal(0.3, 0.2, l.t, out).accepted);
-  l.toRobot(out);
+  ASSERT_TRUE(l.startGoal(0.3, 0.2));
   l.run(0.3);
   // The robot runs into an obstacle that holds it back (the simulator stalls forward motion while
   // in contact). The host ends the goal on the bumper, but the robot itself stays blocked in its

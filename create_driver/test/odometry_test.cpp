@@ -6,6 +6,20 @@
 
 namespace cd = create_driver;
 
+namespace
+{
+/// The encoders' default step, m per count.
+const double kMetresPerCount = cd::Odometry::Params().encoder_m_per_count;
+
+/// The default parameters with wheels @p wheel_base m apart.
+cd::Odometry::Params wheelBase(double wheel_base)
+{
+  cd::Odometry::Params params;
+  params.wheel_base = wheel_base;
+  return params;
+}
+}  // namespace
+
 TEST(Odometry, NormalizeAngle)
 {
   EXPECT_NEAR(cd::normalizeAngle(3 * M_PI), M_PI, 1e-12);
@@ -70,16 +84,13 @@ TEST(Odometry, FullTurnsWrapYawButNotContinuousYaw)
 
 TEST(Odometry, EncodersWithWrapAround)
 {
-  cd::Odometry::Params params;
-  params.wheel_base = 0.235;
-  cd::Odometry o(params);
-  const double mpc = params.encoder_m_per_count;
+  cd::Odometry o(wheelBase(0.235));
   // Baseline just below the wrap; both wheels advance 100 counts, crossing 65535 -> 0.
   o.updateEncoders(65500, 65500, 0.0);
   EXPECT_NEAR(o.distance(), 0.0, 1e-12);
   o.updateEncoders(64, 64, 0.1);
-  EXPECT_NEAR(o.distance(), 100 * mpc, 1e-9);
-  EXPECT_NEAR(o.pose().x, 100 * mpc, 1e-9);
+  EXPECT_NEAR(o.distance(), 100 * kMetresPerCount, 1e-9);
+  EXPECT_NEAR(o.pose().x, 100 * kMetresPerCount, 1e-9);
   // Going backwards across the wrap again.
   o.updateEncoders(65500, 65500, 0.2);
   EXPECT_NEAR(o.distance(), 0.0, 1e-9);
@@ -87,15 +98,12 @@ TEST(Odometry, EncodersWithWrapAround)
 
 TEST(Odometry, EncodersTurnInPlace)
 {
-  cd::Odometry::Params params;
-  params.wheel_base = 0.235;
-  cd::Odometry o(params);
-  const double mpc = params.encoder_m_per_count;
+  cd::Odometry o(wheelBase(0.235));
   o.updateEncoders(1000, 1000, 0.0);
   // Left -n counts, right +n counts: rotation 2 n mpc / b, no translation.
   const int n = 200;
   o.updateEncoders(static_cast<uint16_t>(1000 - n), static_cast<uint16_t>(1000 + n), 0.5);
-  EXPECT_NEAR(o.pose().yaw, 2 * n * mpc / 0.235, 1e-9);
+  EXPECT_NEAR(o.pose().yaw, 2 * n * kMetresPerCount / 0.235, 1e-9);
   EXPECT_NEAR(o.distance(), 0.0, 1e-12);
 }
 

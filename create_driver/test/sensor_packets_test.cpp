@@ -1,45 +1,37 @@
 #include <gtest/gtest.h>
 
+#include <initializer_list>
+#include <utility>
+
 #include "create_driver/sensor_packets.h"
 
 using create_driver::Bytes;
 namespace cd = create_driver;
 
+namespace
+{
+/// Expects packetSize(id, @p model) to be the size of each { id, size } of @p sizes.
+void expectSizes(cd::Model model, std::initializer_list<std::pair<uint8_t, size_t>> sizes)
+{
+  for (const auto& id_size : sizes)
+    EXPECT_EQ(cd::packetSize(id_size.first, model), id_size.second) << "packet " << static_cast<int>(id_size.first);
+}
+}  // namespace
+
 TEST(SensorPackets, GroupSizesMatchSpec)
 {
-  const auto c1 = cd::Model::CREATE_1;
-  const auto c2 = cd::Model::CREATE_2;
-  EXPECT_EQ(cd::packetSize(0, c1), 26u);
-  EXPECT_EQ(cd::packetSize(1, c1), 10u);
-  EXPECT_EQ(cd::packetSize(2, c1), 6u);
-  EXPECT_EQ(cd::packetSize(3, c1), 10u);
-  EXPECT_EQ(cd::packetSize(4, c1), 14u);
-  EXPECT_EQ(cd::packetSize(5, c1), 12u);
-  EXPECT_EQ(cd::packetSize(6, c1), 52u);
-  EXPECT_EQ(cd::packetSize(100, c2), 80u);
-  EXPECT_EQ(cd::packetSize(101, c2), 28u);
-  EXPECT_EQ(cd::packetSize(106, c2), 12u);
-  EXPECT_EQ(cd::packetSize(107, c2), 9u);
+  expectSizes(cd::Model::CREATE_1, { { 0, 26 }, { 1, 10 }, { 2, 6 }, { 3, 10 }, { 4, 14 }, { 5, 12 }, { 6, 52 } });
+  expectSizes(cd::Model::CREATE_2, { { 100, 80 }, { 101, 28 }, { 106, 12 }, { 107, 9 } });
 }
 
 TEST(SensorPackets, SingleSizesAndModels)
 {
-  const auto c1 = cd::Model::CREATE_1;
-  EXPECT_EQ(cd::packetSize(7, c1), 1u);
-  EXPECT_EQ(cd::packetSize(19, c1), 2u);
-  EXPECT_EQ(cd::packetSize(20, c1), 2u);
-  EXPECT_EQ(cd::packetSize(21, c1), 1u);
-  EXPECT_EQ(cd::packetSize(22, c1), 2u);
-  EXPECT_EQ(cd::packetSize(24, c1), 1u);
-  EXPECT_EQ(cd::packetSize(35, c1), 1u);
-  EXPECT_EQ(cd::packetSize(42, c1), 2u);
+  expectSizes(cd::Model::CREATE_1,
+              { { 7, 1 }, { 19, 2 }, { 20, 2 }, { 21, 1 }, { 22, 2 }, { 24, 1 }, { 35, 1 }, { 42, 2 } });
   // Create 2 only packets are unknown on the Create.
-  EXPECT_EQ(cd::packetSize(43, c1), 0u);
-  EXPECT_EQ(cd::packetSize(100, c1), 0u);
-  EXPECT_EQ(cd::packetSize(43, cd::Model::CREATE_2), 2u);
-  EXPECT_EQ(cd::packetSize(58, cd::Model::CREATE_2), 1u);
-  EXPECT_EQ(cd::packetSize(59, cd::Model::CREATE_2), 0u);
-  EXPECT_EQ(cd::packetSize(200, c1), 0u);
+  expectSizes(cd::Model::CREATE_1, { { 43, 0 }, { 100, 0 } });
+  expectSizes(cd::Model::CREATE_2, { { 43, 2 }, { 58, 1 }, { 59, 0 } });
+  expectSizes(cd::Model::CREATE_1, { { 200, 0 } });
 }
 
 TEST(SensorPackets, DecodeSignedAndUnsigned)

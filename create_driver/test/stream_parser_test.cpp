@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
 #include "create_driver/stream_parser.h"
@@ -27,6 +28,18 @@ Bytes frameWithDistance(int distance_mm, int angle_deg)
 size_t feed(cd::StreamParser& p, const Bytes& b)
 {
   return p.feed(b.data(), b.size());
+}
+
+/// Frames of distance 1, 2 and 3 mm in a row, the second changed by @p damage.
+Bytes threeFrames(const std::function<void(Bytes&)>& damage)
+{
+  Bytes all = frameWithDistance(1, 0);
+  Bytes b = frameWithDistance(2, 0);
+  damage(b);
+  const Bytes c = frameWithDistance(3, 0);
+  all.insert(all.end(), b.begin(), b.end());
+  all.insert(all.end(), c.begin(), c.end());
+  return all;
 }
 }  // namespace
 
@@ -121,13 +134,8 @@ TEST(StreamParser, LostByteCostsOnlyTheFramesItTouches)
 {
   cd::StreamParser p;
   p.setExpectedIds({ 7, 19, 20 });
-  Bytes a = frameWithDistance(1, 0);
-  Bytes b = frameWithDistance(2, 0);
-  Bytes c = frameWithDistance(3, 0);
-  b.erase(b.begin() + 6);  // one byte (distance low byte) lost in the middle of frame b
-  Bytes all;
-  for (const Bytes* f : { &a, &b, &c })
-    all.insert(all.end(), f->begin(), f->end());
+  // One byte (distance low byte) lost in the middle of the second frame.
+  const Bytes all = threeFrames([](Bytes& b) { b.erase(b.begin() + 6); });
   EXPECT_EQ(feed(p, all), 2u);
   ASSERT_EQ(p.updates().size(), 2u);
   EXPECT_EQ(p.updates()[0].distanceMm(), 1);
@@ -228,13 +236,8 @@ TEST(StreamParser, CorruptedFrameInsideStreamCounts)
 {
   cd::StreamParser p;
   p.setExpectedIds({ 7, 19, 20 });
-  Bytes a = frameWithDistance(1, 0);
-  Bytes b = frameWithDistance(2, 0);
-  Bytes c = frameWithDistance(3, 0);
-  b.insert(b.begin() + 3, { 0xAA, 0x55, 0x13 });  // garbage in the middle of frame b
-  Bytes all;
-  for (const Bytes* f : { &a, &b, &c })
-    all.insert(all.end(), f->begin(), f->end());
+  // Garbage in the middle of the second frame.
+  const Bytes all = threeFrames([](Bytes& b) { b.insert(b.begin() + 3, { 0xAA, 0x55, 0x13 }); });
   EXPECT_EQ(feed(p, all), 2u);
   EXPECT_EQ(p.updates()[1].distanceMm(), 3);
   EXPECT_GE(p.counters().corrupt_frames, 1u);

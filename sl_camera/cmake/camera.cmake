@@ -41,9 +41,7 @@ endif()
 
 # Executables (after the libraries exist).
 function(sl_camera_camera_targets)
-  add_executable(camera_node src/nodes/camera_node.cpp)
-  target_include_directories(camera_node PRIVATE ${catkin_INCLUDE_DIRS})
-  target_link_libraries(camera_node ${catkin_LIBRARIES})
+  sl_add_node(camera_node)
   install(TARGETS camera_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endfunction()
 

@@ -61,14 +61,17 @@ struct FakeDevice
 class FakeSource : public FrameSource
 {
 public:
-  explicit FakeSource(std::shared_ptr<FakeDevice> device) : device_(std::move(device)) {}
-  std::string description() const override { return "fake camera /dev/fake0"; }
+  explicit FakeSource(std::shared_ptr<FakeDevice> device)
+    : FrameSource("fake camera /dev/fake0"), device_(std::move(device))
+  {
+  }
   void open() override
   {
     ++device_->opens;
     if (!device_->present)
       throw CameraError(CameraError::Kind::NotFound, "fake camera /dev/fake0 does not exist");
     open_ = true;
+    setNominalRate(device_->rate);
     if (device_->warn_on_open)
       warn("fake camera /dev/fake0: gain ignored");
   }
@@ -130,7 +133,6 @@ public:
   }
   bool isOpen() const override { return open_; }
   bool waiting() const override { return open_ && device_->holding; }
-  double nominalRate() const override { return device_->rate; }
 
 private:
   std::shared_ptr<FakeDevice> device_;
@@ -152,15 +154,22 @@ bool waitUntil(const std::function<bool()>& done, double timeout_s = 20.0)
   return done();
 }
 
+/// @p o with retries after @p initial_backoff s, doubling up to @p max_backoff s.
+CaptureOptions withBackoff(CaptureOptions o, double initial_backoff, double max_backoff)
+{
+  o.initial_backoff = initial_backoff;
+  o.max_backoff = max_backoff;
+  return o;
+}
+
+/// Short grabs and retries; stall and first-frame timeouts long enough never to fire by accident.
 CaptureOptions fastOptions()
 {
   CaptureOptions o;
   o.grab_timeout = 0.02;
-  o.initial_backoff = 0.005;
-  o.max_backoff = 0.02;
   o.stall_timeout = 5.0;
   o.first_frame_timeout = 5.0;
-  return o;
+  return withBackoff(o, 0.005, 0.02);
 }
 
 /// Records events and frames delivered by a CaptureThread.
@@ -196,15 +205,28 @@ struct Recorder
     return out;
   }
 };
+
+/// The fake camera of a test (device_), what its capture thread delivered (rec_), and the thread.
+class CameraCaptureThread : public ::testing::Test
+{
+protected:
+  std::unique_ptr<FrameSource> fakeSource() { return std::unique_ptr<FrameSource>(new FakeSource(device_)); }
+
+  /// A capture thread on a FakeSource of device_ that records its frames and events in rec_.
+  CaptureThread recordedCapture(const CaptureOptions& o = fastOptions())
+  {
+    return CaptureThread(fakeSource(), o, rec_.frames(), rec_.eventsCallback());
+  }
+
+  std::shared_ptr<FakeDevice> device_ = std::make_shared<FakeDevice>();
+  Recorder rec_;
+};
 }  // namespace
 
-TEST(CameraCaptureThread, MissingDeviceAtStartIsReportedAndRetriedUntilItAppears)
+TEST_F(CameraCaptureThread, MissingDeviceAtStartIsReportedAndRetriedUntilItAppears)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->present = false;
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
-                        rec.eventsCallback());
+  device_->present = false;
+  CaptureThread capture = recordedCapture();
   EXPECT_EQ(capture.state(), CaptureState::Idle);
   capture.start();  // returns at once; opening happens on the worker
   ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 3; }));
@@ -212,12 +234,12 @@ TEST(CameraCaptureThread, MissingDeviceAtStartIsReportedAndRetriedUntilItAppears
   EXPECT_NE(s.state, CaptureState::Streaming);
   EXPECT_EQ(s.frames, 0u);
   EXPECT_NE(s.last_error.find("/dev/fake0 does not exist"), std::string::npos) << s.last_error;
-  const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+  const auto errors = rec_.eventsOf(CaptureEvent::Type::Error);
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors.front().message.find("/dev/fake0"), std::string::npos);
   EXPECT_EQ(errors.front().state, CaptureState::Reconnecting);
 
-  device->present = true;
+  device_->present = true;
   ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 5; }));
   s = capture.stats();
   EXPECT_EQ(s.state, CaptureState::Streaming);
@@ -225,32 +247,29 @@ TEST(CameraCaptureThread, MissingDeviceAtStartIsReportedAndRetriedUntilItAppears
   EXPECT_EQ(s.dropped, 0u);
   capture.stop();
   EXPECT_EQ(capture.state(), CaptureState::Idle);
-  EXPECT_EQ(device->opens - 1, static_cast<int>(capture.stats().open_failures));
-  EXPECT_EQ(device->closes.load(), 1);
+  EXPECT_EQ(device_->opens - 1, static_cast<int>(capture.stats().open_failures));
+  EXPECT_EQ(device_->closes.load(), 1);
 }
 
-TEST(CameraCaptureThread, DeviceThatDisappearsIsReopenedWhenItComesBack)
+TEST_F(CameraCaptureThread, DeviceThatDisappearsIsReopenedWhenItComesBack)
 {
-  auto device = std::make_shared<FakeDevice>();
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
-                        rec.eventsCallback());
+  CaptureThread capture = recordedCapture();
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 3; }));
-  EXPECT_EQ(device->opens.load(), 1) << "one initialisation for the whole stream";
+  EXPECT_EQ(device_->opens.load(), 1) << "one initialisation for the whole stream";
 
-  device->present = false;  // unplugged
+  device_->present = false;  // unplugged
   ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 2; }));
   sl_camera::CaptureStats s = capture.stats();
   EXPECT_NE(s.state, CaptureState::Streaming);
   EXPECT_EQ(s.reconnects, 0u);
-  const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+  const auto errors = rec_.eventsOf(CaptureEvent::Type::Error);
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors.front().message.find("/dev/fake0 disappeared"), std::string::npos) << errors.front().message;
-  EXPECT_GE(device->closes.load(), 1) << "a lost device is closed before it is opened again";
+  EXPECT_GE(device_->closes.load(), 1) << "a lost device is closed before it is opened again";
   const std::uint64_t frames_before = s.frames;
 
-  device->present = true;  // plugged in again
+  device_->present = true;  // plugged in again
   ASSERT_TRUE(waitUntil(
       [&]
       {
@@ -261,26 +280,23 @@ TEST(CameraCaptureThread, DeviceThatDisappearsIsReopenedWhenItComesBack)
   s = capture.stats();
   EXPECT_EQ(s.reconnects, 1u);
   EXPECT_EQ(s.dropped, 0u);
-  EXPECT_EQ(device->opens.load(), static_cast<int>(2 + s.open_failures));
+  EXPECT_EQ(device_->opens.load(), static_cast<int>(2 + s.open_failures));
   // The worker closed what it opened.
-  EXPECT_EQ(device->closes.load(), 2);
+  EXPECT_EQ(device_->closes.load(), 2);
 }
 
-TEST(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
+TEST_F(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->free_run = false;
+  device_->free_run = false;
   for (std::uint64_t seq : { 10u, 11u, 12u, 15u, 16u })
-    device->script.push_back(Step{ Step::Image, seq, true, 0.0 });
-  device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });
-  device->script.push_back(Step{ Step::Image, 17, true, 0.0 });
-  device->script.push_back(Step{ Step::Bad, 0, true, 0.0 });     // frame 18, incomplete
-  device->script.push_back(Step{ Step::Image, 19, true, 0.0 });  // its gap is that frame: counted once
-  device->script.push_back(Step{ Step::Image, 3, true, 0.0 });   // counter reset: not a loss
-  device->script.push_back(Step{ Step::Image, 4, true, 0.0 });
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
-                        rec.eventsCallback());
+    device_->script.push_back(Step{ Step::Image, seq, true, 0.0 });
+  device_->script.push_back(Step{ Step::Bad, 0, true, 0.0 });
+  device_->script.push_back(Step{ Step::Image, 17, true, 0.0 });
+  device_->script.push_back(Step{ Step::Bad, 0, true, 0.0 });     // frame 18, incomplete
+  device_->script.push_back(Step{ Step::Image, 19, true, 0.0 });  // its gap is that frame: counted once
+  device_->script.push_back(Step{ Step::Image, 3, true, 0.0 });   // counter reset: not a loss
+  device_->script.push_back(Step{ Step::Image, 4, true, 0.0 });
+  CaptureThread capture = recordedCapture();
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.state() == CaptureState::Finished; }));
   const sl_camera::CaptureStats s = capture.stats();
@@ -289,24 +305,23 @@ TEST(CameraCaptureThread, CountsSequenceGapsAndBadFramesAsDropped)
   EXPECT_EQ(s.reconnects, 0u);
   EXPECT_EQ(s.open_failures, 0u);
   EXPECT_NE(s.last_error.find("incomplete frame"), std::string::npos);
-  EXPECT_EQ(rec.eventsOf(CaptureEvent::Type::FrameError).size(), 2u);
+  EXPECT_EQ(rec_.eventsOf(CaptureEvent::Type::FrameError).size(), 2u);
   {
-    std::lock_guard<std::mutex> lock(rec.mutex);
-    EXPECT_EQ(rec.sequences, (std::vector<std::uint64_t>{ 10, 11, 12, 15, 16, 17, 19, 3, 4 }));
+    std::lock_guard<std::mutex> lock(rec_.mutex);
+    EXPECT_EQ(rec_.sequences, (std::vector<std::uint64_t>{ 10, 11, 12, 15, 16, 17, 19, 3, 4 }));
   }
-  EXPECT_EQ(device->opens.load(), 1) << "the end of a recording is not a failure";
+  EXPECT_EQ(device_->opens.load(), 1) << "the end of a recording is not a failure";
   capture.stop();
   EXPECT_EQ(capture.state(), CaptureState::Idle);
 }
 
-TEST(CameraCaptureThread, CountsTimestampGapsWhenTheSourceHasNoSequence)
+TEST_F(CameraCaptureThread, CountsTimestampGapsWhenTheSourceHasNoSequence)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->free_run = false;
-  device->rate = 100.0;  // 10 ms per frame
+  device_->free_run = false;
+  device_->rate = 100.0;  // 10 ms per frame
   for (double t : { 0.0, 0.010, 0.020, 0.050, 0.060, 0.071 })
-    device->script.push_back(Step{ Step::Image, 0, false, t });
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), nullptr);
+    device_->script.push_back(Step{ Step::Image, 0, false, t });
+  CaptureThread capture(fakeSource(), fastOptions(), nullptr);
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.state() == CaptureState::Finished; }));
   const sl_camera::CaptureStats s = capture.stats();
@@ -315,38 +330,32 @@ TEST(CameraCaptureThread, CountsTimestampGapsWhenTheSourceHasNoSequence)
   EXPECT_DOUBLE_EQ(s.nominal_rate, 100.0);
 }
 
-TEST(CameraCaptureThread, BackoffDoublesUpToTheCap)
+TEST_F(CameraCaptureThread, BackoffDoublesUpToTheCap)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->present = false;
-  Recorder rec;
-  CaptureOptions o = fastOptions();
-  o.initial_backoff = 0.001;
-  o.max_backoff = 0.004;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, nullptr, rec.eventsCallback());
+  device_->present = false;
+  const CaptureOptions o = withBackoff(fastOptions(), 0.001, 0.004);
+  CaptureThread capture(fakeSource(), o, nullptr, rec_.eventsCallback());
   capture.start();
-  ASSERT_TRUE(waitUntil([&] { return rec.eventsOf(CaptureEvent::Type::Error).size() >= 5; }));
+  ASSERT_TRUE(waitUntil([&] { return rec_.eventsOf(CaptureEvent::Type::Error).size() >= 5; }));
   capture.stop();
-  const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+  const auto errors = rec_.eventsOf(CaptureEvent::Type::Error);
   const std::vector<double> expected{ 0.001, 0.002, 0.004, 0.004, 0.004 };
   for (size_t i = 0; i < expected.size(); ++i)
     EXPECT_DOUBLE_EQ(errors[i].retry_in, expected[i]) << "attempt " << i;
 }
 
-TEST(CameraCaptureThread, StalledSourceIsTreatedAsLostAndReopened)
+TEST_F(CameraCaptureThread, StalledSourceIsTreatedAsLostAndReopened)
 {
-  auto device = std::make_shared<FakeDevice>();
   CaptureOptions o = fastOptions();
   o.stall_timeout = 0.05;
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  CaptureThread capture = recordedCapture(o);
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 2; }));
-  device->stalled = true;
+  device_->stalled = true;
   ASSERT_TRUE(waitUntil([&] { return capture.stats().last_error.find("no frame for") != std::string::npos; }));
   EXPECT_NE(capture.stats().last_error.find("/dev/fake0"), std::string::npos);
   const std::uint64_t frames_before = capture.stats().frames;
-  device->stalled = false;
+  device_->stalled = false;
   ASSERT_TRUE(waitUntil(
       [&]
       {
@@ -354,59 +363,54 @@ TEST(CameraCaptureThread, StalledSourceIsTreatedAsLostAndReopened)
         return st.reconnects >= 1 && st.state == CaptureState::Streaming && st.frames >= frames_before + 3;
       }));
   capture.stop();
-  EXPECT_GE(device->opens.load(), 2);
+  EXPECT_GE(device_->opens.load(), 2);
 }
 
-TEST(CameraCaptureThread, StopReturnsDuringALongBackoff)
+TEST_F(CameraCaptureThread, StopReturnsDuringALongBackoff)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->present = false;
-  CaptureOptions o = fastOptions();
-  o.initial_backoff = 3600.0;
-  o.max_backoff = 3600.0;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, nullptr);
+  device_->present = false;
+  const CaptureOptions o = withBackoff(fastOptions(), 3600.0, 3600.0);
+  CaptureThread capture(fakeSource(), o, nullptr);
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.stats().open_failures >= 1; }));
   EXPECT_EQ(capture.state(), CaptureState::Reconnecting);
   EXPECT_DOUBLE_EQ(capture.stats().retry_in, 3600.0);
   capture.stop();  // would hang for an hour if the wait were not interruptible
   EXPECT_EQ(capture.state(), CaptureState::Idle);
-  EXPECT_EQ(device->opens.load(), 1);
+  EXPECT_EQ(device_->opens.load(), 1);
   capture.stop();  // twice is fine
 }
 
-TEST(CameraCaptureThread, CallbackExceptionsAndWarningsAreReportedNotFatal)
+TEST_F(CameraCaptureThread, CallbackExceptionsAndWarningsAreReportedNotFatal)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->warn_on_open = true;
-  Recorder rec;
+  device_->warn_on_open = true;
   std::atomic<int> calls{ 0 };
   CaptureThread capture(
-      std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(),
+      fakeSource(), fastOptions(),
       [&](const Frame&)
       {
         if (calls++ == 0)
           throw std::runtime_error("subscriber exploded");
       },
-      rec.eventsCallback());
+      rec_.eventsCallback());
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return calls >= 5; }));
   capture.stop();
   EXPECT_EQ(capture.stats().reconnects, 0u);
-  const auto frame_errors = rec.eventsOf(CaptureEvent::Type::FrameError);
+  const auto frame_errors = rec_.eventsOf(CaptureEvent::Type::FrameError);
   ASSERT_EQ(frame_errors.size(), 1u);
   EXPECT_NE(frame_errors[0].message.find("subscriber exploded"), std::string::npos);
-  const auto warnings = rec.eventsOf(CaptureEvent::Type::Warning);
+  const auto warnings = rec_.eventsOf(CaptureEvent::Type::Warning);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0].message, "fake camera /dev/fake0: gain ignored");
   // State changes went Opening -> Streaming -> Idle.
   std::vector<CaptureState> states;
-  for (const auto& e : rec.eventsOf(CaptureEvent::Type::StateChanged))
+  for (const auto& e : rec_.eventsOf(CaptureEvent::Type::StateChanged))
     states.push_back(e.state);
   EXPECT_EQ(states, (std::vector<CaptureState>{ CaptureState::Opening, CaptureState::Streaming, CaptureState::Idle }));
 }
 
-TEST(CameraCaptureThread, RejectsBadConstruction)
+TEST_F(CameraCaptureThread, RejectsBadConstruction)
 {
   EXPECT_THROW(CaptureThread(nullptr, CaptureOptions(), nullptr), std::invalid_argument);
   CaptureOptions o;
@@ -423,14 +427,12 @@ TEST(CameraCaptureThread, RejectsBadConstruction)
   EXPECT_STREQ(sl_camera::captureStateName(CaptureState::Reconnecting), "reconnecting");
 }
 
-TEST(CameraCaptureThread, ADeviceThatOpensButNeverDeliversIsOverdueAndNeverRecovered)
+TEST_F(CameraCaptureThread, ADeviceThatOpensButNeverDeliversIsOverdueAndNeverRecovered)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->stalled = true;  // opens fine, streams nothing (a packet socket that receives nothing)
+  device_->stalled = true;  // opens fine, streams nothing (a packet socket that receives nothing)
   CaptureOptions o = fastOptions();
   o.frame_overdue = 0.01;
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  CaptureThread capture = recordedCapture(o);
   capture.start();
   // While open without frames, the stats say so (the diagnostics turn this into an error).
   ASSERT_TRUE(waitUntil(
@@ -440,79 +442,70 @@ TEST(CameraCaptureThread, ADeviceThatOpensButNeverDeliversIsOverdueAndNeverRecov
         return st.state == CaptureState::Streaming && st.overdue && !st.have_frame;
       }));
   capture.stop();
-  EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::FirstFrame).empty());
+  EXPECT_TRUE(rec_.eventsOf(CaptureEvent::Type::FirstFrame).empty());
   EXPECT_EQ(capture.stats().frames, 0u);
 }
 
-TEST(CameraCaptureThread, RecoveryIsAnnouncedOnlyOnceFramesArriveAndBackoffGrowsUntilThen)
+TEST_F(CameraCaptureThread, RecoveryIsAnnouncedOnlyOnceFramesArriveAndBackoffGrowsUntilThen)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->stalled = true;
-  CaptureOptions o = fastOptions();
+  device_->stalled = true;
+  CaptureOptions o = withBackoff(fastOptions(), 0.001, 0.004);
   o.stall_timeout = 0.01;
   o.first_frame_timeout = 0.01;
-  o.initial_backoff = 0.001;
-  o.max_backoff = 0.004;
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  CaptureThread capture = recordedCapture(o);
   capture.start();
-  ASSERT_TRUE(waitUntil([&] { return rec.eventsOf(CaptureEvent::Type::Error).size() >= 4; }));
-  EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::FirstFrame).empty()) << "announced a recovery without a frame";
+  ASSERT_TRUE(waitUntil([&] { return rec_.eventsOf(CaptureEvent::Type::Error).size() >= 4; }));
+  EXPECT_TRUE(rec_.eventsOf(CaptureEvent::Type::FirstFrame).empty()) << "announced a recovery without a frame";
   {
     // Opening worked every time, but no frame came: the waits grow as for a missing device.
-    const auto errors = rec.eventsOf(CaptureEvent::Type::Error);
+    const auto errors = rec_.eventsOf(CaptureEvent::Type::Error);
     EXPECT_DOUBLE_EQ(errors[0].retry_in, 0.001);
     EXPECT_DOUBLE_EQ(errors[1].retry_in, 0.002);
     EXPECT_DOUBLE_EQ(errors[2].retry_in, 0.004);
     EXPECT_NE(errors[0].message.find("no frame for"), std::string::npos) << errors[0].message;
   }
-  device->stalled = false;
+  device_->stalled = false;
   ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 3; }));
   capture.stop();
-  std::lock_guard<std::mutex> lock(rec.mutex);
+  std::lock_guard<std::mutex> lock(rec_.mutex);
   // The first FirstFrame event comes after the last error and before any frame counted after it.
-  size_t first_frame = rec.events.size(), last_error = 0;
-  for (size_t i = 0; i < rec.events.size(); ++i)
+  size_t first_frame = rec_.events.size(), last_error = 0;
+  for (size_t i = 0; i < rec_.events.size(); ++i)
   {
-    if (rec.events[i].type == CaptureEvent::Type::FirstFrame && first_frame == rec.events.size())
+    if (rec_.events[i].type == CaptureEvent::Type::FirstFrame && first_frame == rec_.events.size())
       first_frame = i;
-    if (rec.events[i].type == CaptureEvent::Type::Error)
+    if (rec_.events[i].type == CaptureEvent::Type::Error)
       last_error = i;
   }
-  ASSERT_LT(first_frame, rec.events.size());
+  ASSERT_LT(first_frame, rec_.events.size());
   EXPECT_GT(first_frame, last_error);
-  EXPECT_NE(rec.events[first_frame].message.find("streaming from fake camera /dev/fake0"), std::string::npos);
+  EXPECT_NE(rec_.events[first_frame].message.find("streaming from fake camera /dev/fake0"), std::string::npos);
 }
 
-TEST(CameraCaptureThread, ALossIsReportedBeforeTheSlowCloseOfTheDeadDevice)
+TEST_F(CameraCaptureThread, ALossIsReportedBeforeTheSlowCloseOfTheDeadDevice)
 {
-  auto device = std::make_shared<FakeDevice>();
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), fastOptions(), rec.frames(),
-                        rec.eventsCallback());
+  CaptureThread capture = recordedCapture();
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 2; }));
-  device->close_blocks = true;
-  device->present = false;
+  device_->close_blocks = true;
+  device_->present = false;
   // The state says Reconnecting while close() is still stuck on the dead device.
-  ASSERT_TRUE(waitUntil([&] { return device->closing.load(); }));
+  ASSERT_TRUE(waitUntil([&] { return device_->closing.load(); }));
   const auto st = capture.stats();
   EXPECT_EQ(st.state, CaptureState::Reconnecting);
   EXPECT_NE(st.last_error.find("disappeared"), std::string::npos) << st.last_error;
-  device->close_blocks = false;
+  device_->close_blocks = false;
   capture.stop();
 }
 
-TEST(CameraCaptureThread, ASourceThatWaitsOnPurposeIsNeitherStalledNorOverdue)
+TEST_F(CameraCaptureThread, ASourceThatWaitsOnPurposeIsNeitherStalledNorOverdue)
 {
-  auto device = std::make_shared<FakeDevice>();
-  device->holding = true;  // a player held before its start
+  device_->holding = true;  // a player held before its start
   CaptureOptions o = fastOptions();
   o.stall_timeout = 0.02;
   o.first_frame_timeout = 0.02;
   o.frame_overdue = 0.01;
-  Recorder rec;
-  CaptureThread capture(std::unique_ptr<FrameSource>(new FakeSource(device)), o, rec.frames(), rec.eventsCallback());
+  CaptureThread capture = recordedCapture(o);
   capture.start();
   ASSERT_TRUE(waitUntil([&] { return capture.stats().waiting; }));
   // Many stall timeouts long (a wait, not a measurement): a stalled source would have been closed
@@ -522,18 +515,18 @@ TEST(CameraCaptureThread, ASourceThatWaitsOnPurposeIsNeitherStalledNorOverdue)
   EXPECT_EQ(st.state, CaptureState::Streaming);
   EXPECT_TRUE(st.waiting);
   EXPECT_FALSE(st.overdue);
-  EXPECT_EQ(device->opens.load(), 1);
-  EXPECT_TRUE(rec.eventsOf(CaptureEvent::Type::Error).empty());
+  EXPECT_EQ(device_->opens.load(), 1);
+  EXPECT_TRUE(rec_.eventsOf(CaptureEvent::Type::Error).empty());
 
-  device->holding = false;
+  device_->holding = false;
   ASSERT_TRUE(waitUntil([&] { return capture.stats().frames >= 3; }));
   st = capture.stats();
   EXPECT_FALSE(st.waiting);
   EXPECT_TRUE(st.have_frame);
-  EXPECT_EQ(rec.eventsOf(CaptureEvent::Type::FirstFrame).size(), 1u);
+  EXPECT_EQ(rec_.eventsOf(CaptureEvent::Type::FirstFrame).size(), 1u);
   capture.stop();
-  std::lock_guard<std::mutex> lock(rec.mutex);
-  ASSERT_FALSE(rec.sequences.empty());
-  EXPECT_EQ(rec.sequences.front(), 0u);
-  EXPECT_EQ(device->opens.load(), 1);
+  std::lock_guard<std::mutex> lock(rec_.mutex);
+  ASSERT_FALSE(rec_.sequences.empty());
+  EXPECT_EQ(rec_.sequences.front(), 0u);
+  EXPECT_EQ(device_->opens.load(), 1);
 }

@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "sl_evaluation/evaluation.h"
 #include "sl_decoder/ray_classifier.h"
+#include "sl_testing/errors.h"
 
 using namespace sl_decoder;
 using namespace sl_evaluation;
@@ -141,53 +143,39 @@ int raysBeyondSurface(const sl_sim::Scene& scene, const Frame& f, double toleran
 
 TEST(RayConfig, BadValuesThrowNamingTheField)
 {
-  auto expectThrowNaming = [](RayConfig c, const std::string& field)
-  {
-    try
-    {
-      c.validate();
-      ADD_FAILURE() << field << " accepted";
-    }
-    catch (const std::invalid_argument& e)
-    {
-      EXPECT_EQ(std::string(e.what()).rfind(field, 0), 0u) << e.what();
-    }
-  };
-  RayConfig c;
-  EXPECT_NO_THROW(c.validate());
-  c.min_albedo = 0.0;
-  expectThrowNaming(c, "min_albedo");
-  c = RayConfig();
-  c.min_albedo = 1.5;
-  expectThrowNaming(c, "min_albedo");
-  c = RayConfig();
-  c.pattern_contrast_1m = -1.0;
-  expectThrowNaming(c, "pattern_contrast_1m");
-  c = RayConfig();
-  c.light_fraction = std::nan("");
-  expectThrowNaming(c, "light_fraction");
-  c = RayConfig();
-  c.noise_floor = 0.0;
-  expectThrowNaming(c, "noise_floor");
-  c = RayConfig();
-  c.max_range = -2.0;
-  expectThrowNaming(c, "max_range");
-  c = RayConfig();
-  c.glow_max_depth = -0.1;
-  expectThrowNaming(c, "glow_max_depth");
+  using sl_testing::refusedNaming;
+  EXPECT_EQ(sl_testing::validationError(RayConfig()), "");
+  EXPECT_TRUE(refusedNaming<RayConfig>("min_albedo", [](auto& c) { c.min_albedo = 0.0; }));
+  EXPECT_TRUE(refusedNaming<RayConfig>("min_albedo", [](auto& c) { c.min_albedo = 1.5; }));
+  EXPECT_TRUE(refusedNaming<RayConfig>("pattern_contrast_1m", [](auto& c) { c.pattern_contrast_1m = -1.0; }));
+  EXPECT_TRUE(refusedNaming<RayConfig>("light_fraction", [](auto& c) { c.light_fraction = std::nan(""); }));
+  EXPECT_TRUE(refusedNaming<RayConfig>("noise_floor", [](auto& c) { c.noise_floor = 0.0; }));
+  EXPECT_TRUE(refusedNaming<RayConfig>("max_range", [](auto& c) { c.max_range = -2.0; }));
+  EXPECT_TRUE(refusedNaming<RayConfig>("glow_max_depth", [](auto& c) { c.glow_max_depth = -0.1; }));
   // max_range beyond the decoder's max_depth is refused by the classifier.
-  c = RayConfig();
+  RayConfig c;
   c.max_range = 3.0;
-  try
+  const std::string error =
+      sl_testing::invalidArgumentOf([&] { RayClassifier r(setup().rig, setup().decoder.config(), c); });
+  EXPECT_EQ(error.rfind("max_range", 0), 0u) << "max_range beyond max_depth: \"" << error << "\"";
+}
+
+namespace
+{
+/// Classifies @p scene with seeds 1 to @p seeds, logs the counts of each ("<what>, seed <seed>:
+/// <counts>; in view <n>") and runs @p check on it.
+void forEachSeed(const sl_sim::Scene& scene, uint64_t seeds, const char* what,
+                 const std::function<void(const Frame&, uint64_t)>& check)
+{
+  Frame f;
+  for (uint64_t seed = 1; seed <= seeds; ++seed)
   {
-    RayClassifier r(setup().rig, setup().decoder.config(), c);
-    ADD_FAILURE() << "max_range beyond max_depth accepted";
-  }
-  catch (const std::invalid_argument& e)
-  {
-    EXPECT_EQ(std::string(e.what()).rfind("max_range", 0), 0u) << e.what();
+    classify(scene, seed, f);
+    std::printf("%s, seed %d: %s; in view %d\n", what, static_cast<int>(seed), countsText(f).c_str(), inView());
+    check(f, seed);
   }
 }
+}  // namespace
 
 TEST(RayClassifier, StateNames)
 {
@@ -201,27 +189,23 @@ TEST(RayClassifier, StateNames)
 TEST(RayClassifier, PlaneAt3mIsDark)
 {
   const sl_sim::Scene scene = planeScene(3.0, 0.8, false);
-  Frame f;
-  for (uint64_t seed = 1; seed <= 3; ++seed)
-  {
-    classify(scene, seed, f);
-    std::printf("plane 3 m, seed %d: %s; in view %d\n", static_cast<int>(seed), countsText(f).c_str(), inView());
-    EXPECT_GE(count(f, RayState::Dark), 0.9 * inView()) << seed;
-    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane 3 m"), 0);
-  }
+  forEachSeed(scene, 3, "plane 3 m",
+              [&](const Frame& f, uint64_t seed)
+              {
+                EXPECT_GE(count(f, RayState::Dark), 0.9 * inView()) << seed;
+                EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane 3 m"), 0);
+              });
 }
 
 TEST(RayClassifier, PlaneAt25cmIsLitNeverDark)
 {
   const sl_sim::Scene scene = planeScene(0.25, 0.8, false);
-  Frame f;
-  for (uint64_t seed = 1; seed <= 2; ++seed)
-  {
-    classify(scene, seed, f);
-    std::printf("plane 0.25 m, seed %d: %s; in view %d\n", static_cast<int>(seed), countsText(f).c_str(), inView());
-    EXPECT_GE(count(f, RayState::Lit), 0.9 * inView()) << seed;
-    EXPECT_EQ(count(f, RayState::Dark, false), 0) << seed;
-  }
+  forEachSeed(scene, 2, "plane 0.25 m",
+              [&](const Frame& f, uint64_t seed)
+              {
+                EXPECT_GE(count(f, RayState::Lit), 0.9 * inView()) << seed;
+                EXPECT_EQ(count(f, RayState::Dark, false), 0) << seed;
+              });
 }
 
 /// Dark rays whose free part ends inside the image (not where the segment leaves the view).
@@ -301,16 +285,14 @@ TEST(RayClassifier, BlackSurfaceAt1mIsDark)
 TEST(RayClassifier, WhitePlaneAt700mmIsDecoded)
 {
   const sl_sim::Scene scene = sl_sim::loadScene(findScene({ "plane_700" }));
-  Frame f;
-  for (uint64_t seed = 1; seed <= 2; ++seed)
-  {
-    classify(scene, seed, f);
-    std::printf("plane_700, seed %d: %s; in view %d\n", static_cast<int>(seed), countsText(f).c_str(), inView());
-    // Lit: the primitives whose segment ends on a blob cut by the image's left border.
-    EXPECT_GE(f.counts[static_cast<size_t>(RayState::Decoded)], 820) << seed;
-    EXPECT_LE(f.counts[static_cast<size_t>(RayState::Lit)], 60) << seed;
-    EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane_700"), 0);
-  }
+  forEachSeed(scene, 2, "plane_700",
+              [&](const Frame& f, uint64_t seed)
+              {
+                // Lit: the primitives whose segment ends on a blob cut by the image's left border.
+                EXPECT_GE(f.counts[static_cast<size_t>(RayState::Decoded)], 820) << seed;
+                EXPECT_LE(f.counts[static_cast<size_t>(RayState::Lit)], 60) << seed;
+                EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "plane_700"), 0);
+              });
 }
 
 TEST(RayClassifier, DimPlanesNeverLetAFreeRayThrough)

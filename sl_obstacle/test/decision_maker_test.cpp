@@ -56,9 +56,36 @@ DecisionParams noTurning()
   return p;
 }
 
+/// Turn steps of @p turn_angle at 1 rad/s (one step takes turn_angle s), at most @p max_turns, no settle time.
+DecisionParams quickTurns(double turn_angle, int max_turns = DecisionParams().max_turns)
+{
+  DecisionParams p;
+  p.settle_time = 0.0;
+  p.turn_angle = turn_angle;
+  p.turn_speed = 1.0;
+  p.max_turns = max_turns;
+  return p;
+}
+
+/// Steps @p dm at t = 1 s on a frame with the way free: the command it gives (DRIVE).
+Command driveOnAFreeWay(DecisionMaker& dm)
+{
+  dm.onFrame(frame(1.0, kInf, 0.8));
+  return dm.step(1.0, idle()).command;
+}
+
 bool contains(const std::string& text, const char* part)
 {
   return text.find(part) != std::string::npos;
+}
+
+/// Whether @p d is a turn whose text says @p why, for EXPECT_TRUE.
+::testing::AssertionResult turnsSaying(const Decision& d, const char* why)
+{
+  if (d.command == Command::TURN && contains(d.text, why))
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "expected a turn saying \"" << why << "\", got " << toString(d.command)
+                                       << ": \"" << d.text << "\"";
 }
 
 TEST(DecisionMaker, NoDataIsStale)
@@ -179,8 +206,7 @@ TEST(DecisionMaker, LowCoverageStopsAndPartialCoverageSlows)
 TEST(DecisionMaker, NearerObstaclePreemptsTheRunningGoal)
 {
   DecisionMaker dm;
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   // An obstacle appears at 0.4 m while 0.6 m remain.
   dm.onFrame(frame(1.2, 0.4, 0.4));
   const Decision& d = dm.step(1.2, running(0.6, 0.2));
@@ -297,11 +323,7 @@ TEST(DecisionMaker, TurnsRightWhenTheRightIsFreer)
 
 TEST(DecisionMaker, GivesUpAfterMaxTurnsAndDrivesWhenTheWayClears)
 {
-  DecisionParams p;
-  p.settle_time = 0.0;
-  p.max_turns = 2;
-  p.turn_angle = 0.1;
-  p.turn_speed = 1.0;
+  DecisionParams p = quickTurns(0.1, 2);
   p.stale_timeout = 50.0;
   DecisionMaker dm(p);
   double t = 0.0;
@@ -339,25 +361,18 @@ TEST(DecisionMaker, GivesUpAfterMaxTurnsAndDrivesWhenTheWayClears)
 
 TEST(DecisionMaker, LowCoverageAfterATurnMeansTurnAgain)
 {
-  DecisionParams p;
-  p.settle_time = 0.0;
-  p.turn_angle = 0.1;
-  p.turn_speed = 1.0;
-  DecisionMaker dm(p);
+  DecisionMaker dm(quickTurns(0.1));
   dm.onFrame(frame(1.0, 0.1, 0.1));
   EXPECT_EQ(dm.step(1.0, idle()).command, Command::TURN);
   EXPECT_EQ(dm.step(1.2, idle()).reason, Reason::LOOKING);
   dm.onFrame(frame(1.25, kInf, 0.8, 0.05));  // nothing seen
-  const Decision& d = dm.step(1.25, idle());
-  EXPECT_EQ(d.command, Command::TURN);
-  EXPECT_TRUE(contains(d.text, "coverage")) << d.text;
+  EXPECT_TRUE(turnsSaying(dm.step(1.25, idle()), "coverage"));
 }
 
 TEST(DecisionMaker, WaitsForAFreshFrameAfterAGoalEnds)
 {
   DecisionMaker dm;
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   dm.onFrame(frame(4.0, kInf, 0.8));
   EXPECT_EQ(dm.step(4.05, running(0.6, 0.2)).command, Command::NONE);
   dm.onGoalEnded(GoalEnd::REACHED, 4.1, "reached");
@@ -382,19 +397,15 @@ TEST(DecisionMaker, DriverHazardStartsATurn)
   DecisionParams p;
   p.settle_time = 0.0;
   DecisionMaker dm(p);
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   dm.onGoalEnded(GoalEnd::HAZARD, 1.1, "bumper");
-  const Decision& d = dm.step(1.1, idle());
-  EXPECT_EQ(d.command, Command::TURN);
-  EXPECT_TRUE(contains(d.text, "bumper")) << d.text;
+  EXPECT_TRUE(turnsSaying(dm.step(1.1, idle()), "bumper"));
 }
 
 TEST(DecisionMaker, DriverFailureIsReported)
 {
   DecisionMaker dm;
-  dm.onFrame(frame(1.0, kInf, 0.8));
-  ASSERT_EQ(dm.step(1.0, idle()).command, Command::DRIVE);
+  ASSERT_EQ(driveOnAFreeWay(dm), Command::DRIVE);
   dm.onGoalEnded(GoalEnd::FAILED, 1.1, "timeout");
   const Decision& d = dm.step(1.1, idle());
   EXPECT_EQ(d.state, State::STOPPED);
@@ -437,12 +448,7 @@ TEST(DecisionMaker, DisabledAndDriverNotReadyStop)
 
 TEST(DecisionMaker, EveryDecisionHasAReasonText)
 {
-  DecisionParams p;
-  p.settle_time = 0.0;
-  p.max_turns = 1;
-  p.turn_angle = 0.05;
-  p.turn_speed = 1.0;
-  DecisionMaker dm(p);
+  DecisionMaker dm(quickTurns(0.05, 1));
   double t = 0.0;
   const double frees[] = { 0.8, 0.4, 0.1, 0.8, 0.05, 0.05, 0.05, 0.8 };
   for (int i = 0; i < 200; ++i)

@@ -20,6 +20,8 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "sensor_model.h"
+
 namespace
 {
 class FakeWallCloud
@@ -78,13 +80,11 @@ private:
     const double s = std::sin(yaw);
 
     // The pattern's rays in platform_edge (x forward, y left, z up; origin at the front edge).
-    const int rows = 16;
-    const int cols = 64;
-    const double ox = -0.10;
-    const double oz = 0.0865;
-    const double focus = 0.675;
-    const double width = 0.331;
-    const double height = 0.173;
+    const sl_obstacle::test::SensorModel sensor;
+    const int rows = sensor.rows;
+    const int cols = sensor.cols;
+    const double ox = sensor.origin_x;
+    const double oz = sensor.origin_z;
     // World x of the sensor origin (the edge is edge_offset ahead of the robot's centre).
     const double owx = rx + c * (edge_offset_ + ox);
 
@@ -120,9 +120,9 @@ private:
     {
       for (int k = 0; k < cols; ++k)
       {
-        double dx = focus - ox;
-        double dy = -0.5 * width + width * (k + 0.5) / cols;
-        double dz = height * (r + 0.5) / rows - oz;
+        double dx = sensor.focus_x - ox;
+        double dy = -0.5 * sensor.width + sensor.width * (k + 0.5) / cols;
+        double dz = sensor.height * (r + 0.5) / rows - oz;
         const double norm = std::sqrt(dx * dx + dy * dy + dz * dz);
         dx /= norm;
         dy /= norm;

@@ -32,24 +32,35 @@ NoiseFilter makeFilter(int min_cluster_size, int persistence_frames, double tole
   return filter;
 }
 
+/// What apply() makes of all points of a frame.
+struct Applied
+{
+  NoiseStats stats;
+  std::vector<std::uint32_t> accepted;
+};
+
+Applied applyAll(NoiseFilter& filter, const std::vector<Point>& points)
+{
+  Applied out;
+  out.stats = filter.apply(points.data(), allIndices(points), out.accepted);
+  return out;
+}
+
 std::size_t acceptedCount(NoiseFilter& filter, const std::vector<Point>& points)
 {
-  std::vector<std::uint32_t> accepted;
-  filter.apply(points.data(), allIndices(points), accepted);
-  return accepted.size();
+  return applyAll(filter, points).accepted.size();
 }
 
 TEST(NoiseFilter, SingleStrayPointIsRejected)
 {
   NoiseFilter filter = makeFilter(3, 1);
   const std::vector<Point> points{ makePoint(0.4F, 0.0F, 0.1F) };
-  std::vector<std::uint32_t> accepted;
-  const NoiseStats& stats = filter.apply(points.data(), allIndices(points), accepted);
-  EXPECT_TRUE(accepted.empty());
-  EXPECT_EQ(stats.candidates, 1U);
-  EXPECT_EQ(stats.clusters, 1U);
-  EXPECT_EQ(stats.accepted_clusters, 0U);
-  EXPECT_EQ(stats.rejected_by_cluster, 1U);
+  const Applied applied = applyAll(filter, points);
+  EXPECT_TRUE(applied.accepted.empty());
+  EXPECT_EQ(applied.stats.candidates, 1U);
+  EXPECT_EQ(applied.stats.clusters, 1U);
+  EXPECT_EQ(applied.stats.accepted_clusters, 0U);
+  EXPECT_EQ(applied.stats.rejected_by_cluster, 1U);
 }
 
 TEST(NoiseFilter, MinimumClusterSize)
@@ -71,10 +82,9 @@ TEST(NoiseFilter, ClustersAreTransitiveWithinTheTolerance)
   // 40 mm links: three single points.
   const std::vector<Point> spread{ makePoint(0.4F, 0.0F, 0.1F), makePoint(0.4F, 0.04F, 0.1F),
                                    makePoint(0.4F, 0.08F, 0.1F) };
-  std::vector<std::uint32_t> accepted;
-  const NoiseStats& stats = filter.apply(spread.data(), allIndices(spread), accepted);
-  EXPECT_TRUE(accepted.empty());
-  EXPECT_EQ(stats.clusters, 3U);
+  const Applied applied = applyAll(filter, spread);
+  EXPECT_TRUE(applied.accepted.empty());
+  EXPECT_EQ(applied.stats.clusters, 3U);
   // Distance is 3D: points close in y but apart in x are not linked.
   const std::vector<Point> deep{ makePoint(0.3F, 0.0F, 0.1F), makePoint(0.4F, 0.001F, 0.1F),
                                  makePoint(0.5F, 0.002F, 0.1F) };
@@ -90,12 +100,11 @@ TEST(NoiseFilter, StrayPointsBesideAnObstacleAreRejectedAlone)
     points.push_back(makePoint(0.5F, 0.0F, 0.05F + 0.011F * i));  // a leg, one column
   }
   points.push_back(makePoint(0.2F, 0.1F, 0.1F));  // stray
-  std::vector<std::uint32_t> accepted;
-  const NoiseStats& stats = filter.apply(points.data(), allIndices(points), accepted);
-  EXPECT_EQ(accepted.size(), 10U);
-  EXPECT_EQ(stats.clusters, 2U);
-  EXPECT_EQ(stats.largest_cluster, 10U);
-  for (std::uint32_t i : accepted)
+  const Applied applied = applyAll(filter, points);
+  EXPECT_EQ(applied.accepted.size(), 10U);
+  EXPECT_EQ(applied.stats.clusters, 2U);
+  EXPECT_EQ(applied.stats.largest_cluster, 10U);
+  for (std::uint32_t i : applied.accepted)
   {
     EXPECT_LT(i, 10U);
   }
@@ -154,11 +163,10 @@ TEST(NoiseFilter, BothTestsCombine)
   NoiseFilter filter = makeFilter(3, 2);
   const std::vector<Point> leg{ makePoint(0.5F, 0.0F, 0.1F), makePoint(0.5F, 0.005F, 0.1F),
                                 makePoint(0.5F, 0.0F, 0.111F) };
-  std::vector<std::uint32_t> accepted;
-  const NoiseStats& first = filter.apply(leg.data(), allIndices(leg), accepted);
-  EXPECT_TRUE(accepted.empty());
-  EXPECT_EQ(first.rejected_by_persistence, 3U);
-  EXPECT_EQ(first.rejected_by_cluster, 0U);
+  const Applied applied = applyAll(filter, leg);
+  EXPECT_TRUE(applied.accepted.empty());
+  EXPECT_EQ(applied.stats.rejected_by_persistence, 3U);
+  EXPECT_EQ(applied.stats.rejected_by_cluster, 0U);
   EXPECT_EQ(acceptedCount(filter, leg), 3U);
   filter.reset();
   EXPECT_EQ(acceptedCount(filter, leg), 0U);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "sensor_model.h"
 #include "sl_obstacle/point.h"
 
 namespace sl_obstacle
@@ -44,21 +45,6 @@ struct Scene
     boxes.push_back(SceneBox{ x, x + size, y - 0.5 * size, y + 0.5 * size, -0.1, 0.75 });
     return *this;
   }
-};
-
-/// The imitated sensor: rays from @p origin through a grid of rows x cols points that fill the window
-/// W x H at x = focus_x.
-struct SensorModel
-{
-  double origin_x = -0.10;
-  double origin_y = 0.0;
-  double origin_z = 0.0865;
-  double focus_x = 0.675;
-  double width = 0.331;
-  double height = 0.173;
-  int rows = 16;
-  int cols = 64;
-  double max_distance = 3.0;  ///< along the ray; no hit beyond
 };
 
 /// Ray-box intersection (slab method). @return entry distance along the unit ray or +inf.

@@ -124,6 +124,16 @@ WorldParams params()
   return p;
 }
 
+/// Decisions on the map: @p safety_margin, at most @p max_turns, no settle time.
+DecisionParams mapDecisionParams(double safety_margin, int max_turns)
+{
+  DecisionParams p;
+  p.safety_margin = safety_margin;
+  p.max_turns = max_turns;
+  p.settle_time = 0.0;
+  return p;
+}
+
 TEST(WorldModel, OpenSpaceIsDriven)
 {
   WorldModel world(params());
@@ -199,11 +209,8 @@ TEST(WorldModel, BoxedInBacksOffAlongTheTrail)
   EXPECT_LT(s.best_turn_free, 0.40 + 0.05) << "no heading may be free beyond the clearance";
   EXPECT_GT(s.reverse_free, 0.3) << "the trail behind is free";
 
-  DecisionParams dp;
-  dp.safety_margin = 0.40;
+  DecisionParams dp = mapDecisionParams(0.40, 2);
   dp.slow_distance = 0.6;
-  dp.max_turns = 2;
-  dp.settle_time = 0.0;
   DecisionMaker decider(dp);
   FrameSummary cloud;
   cloud.coverage = 1.0;
@@ -354,11 +361,8 @@ TEST(MapDecisions, NoOdometryStops)
 
 TEST(MapDecisions, GivesUpAfterMaxBackoffs)
 {
-  DecisionParams dp;
-  dp.safety_margin = 0.4;
-  dp.max_turns = 1;
+  DecisionParams dp = mapDecisionParams(0.4, 1);
   dp.max_backoffs = 2;
-  dp.settle_time = 0.0;
   DecisionMaker decider(dp);
   FrameSummary f;
   f.from_map = true;

@@ -138,12 +138,15 @@ struct AravisSource::Impl
   gulong lost_handler = 0;
   // Shared with the teardown: Aravis' heartbeat thread may set it until the device is finalised.
   std::shared_ptr<std::atomic<bool>> control_lost = std::make_shared<std::atomic<bool>>(false);
-  double nominal_rate = 0.0;
   cv::Mat converted;
 };
 
 AravisSource::AravisSource(const std::string& camera_id, const SourceSettings& settings, const AravisOptions& options)
-  : camera_id_(camera_id), settings_(settings), options_(options), impl_(new Impl)
+  : FrameSource(camera_id.empty() ? std::string("Aravis camera (first found)") : "Aravis camera " + camera_id),
+    camera_id_(camera_id),
+    settings_(settings),
+    options_(options),
+    impl_(new Impl)
 {
 }
 
@@ -152,19 +155,9 @@ AravisSource::~AravisSource()
   close();
 }
 
-std::string AravisSource::description() const
-{
-  return camera_id_.empty() ? std::string("Aravis camera (first found)") : "Aravis camera " + camera_id_;
-}
-
 bool AravisSource::isOpen() const
 {
   return impl_->camera != nullptr;
-}
-
-double AravisSource::nominalRate() const
-{
-  return impl_->nominal_rate;
 }
 
 void AravisSource::open()
@@ -290,7 +283,7 @@ void AravisSource::open()
     takeError(error);
     warn(description() + ": no frame rate control; the camera runs at its own rate");
   }
-  impl_->nominal_rate = std::max(0.0, arv_camera_get_frame_rate(camera, &error));
+  setNominalRate(std::max(0.0, arv_camera_get_frame_rate(camera, &error)));
   takeError(error);
 
   // Exposure (GenICam ExposureTime is in us).
@@ -568,7 +561,7 @@ GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
 void AravisSource::close()
 {
   Impl& d = *impl_;
-  d.nominal_rate = 0.0;
+  setNominalRate(0.0);
   if (!d.camera && !d.stream)
     return;
   ArvCamera* camera = d.camera;

@@ -43,7 +43,8 @@ bool PlayerSource::isImageFile(const std::string& path)
 }
 
 PlayerSource::PlayerSource(const std::string& path, double rate, bool loop)
-  : path_(path),
+  : FrameSource("player of " + path),
+    path_(path),
     rate_(rate),
     loop_(loop),
     clock_(std::make_shared<SteadyPacingClock>()),
@@ -51,16 +52,12 @@ PlayerSource::PlayerSource(const std::string& path, double rate, bool loop)
 {
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw std::invalid_argument("player rate must be a finite rate > 0 Hz, got " + std::to_string(rate));
+  setNominalRate(rate);
 }
 
 PlayerSource::~PlayerSource()
 {
   close();
-}
-
-std::string PlayerSource::description() const
-{
-  return "player of " + path_;
 }
 
 void PlayerSource::open()
@@ -122,11 +119,6 @@ void PlayerSource::close()
 bool PlayerSource::isOpen() const
 {
   return open_;
-}
-
-double PlayerSource::nominalRate() const
-{
-  return rate_;
 }
 
 bool PlayerSource::waiting() const

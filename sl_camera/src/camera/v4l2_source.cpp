@@ -48,18 +48,13 @@ std::string V4l2Source::devicePath(const std::string& device)
 }
 
 V4l2Source::V4l2Source(const std::string& device, const SourceSettings& settings)
-  : path_(devicePath(device)), settings_(settings)
+  : FrameSource("V4L2 device " + devicePath(device)), path_(devicePath(device)), settings_(settings)
 {
 }
 
 V4l2Source::~V4l2Source()
 {
   close();
-}
-
-std::string V4l2Source::description() const
-{
-  return "V4L2 device " + path_;
 }
 
 void V4l2Source::open()
@@ -141,11 +136,11 @@ void V4l2Source::applySettings()
   if (s.rate > 0.0)
   {
     cap.set(cv::CAP_PROP_FPS, s.rate);
-    nominal_rate_ = std::max(0.0, cap.get(cv::CAP_PROP_FPS));
-    if (nominal_rate_ > 0.0 && std::fabs(nominal_rate_ - s.rate) > 0.01 * s.rate)
+    setNominalRate(std::max(0.0, cap.get(cv::CAP_PROP_FPS)));
+    if (nominalRate() > 0.0 && std::fabs(nominalRate() - s.rate) > 0.01 * s.rate)
     {
       std::ostringstream msg;
-      msg << description() << ": asked for " << s.rate << " Hz, the driver runs at " << nominal_rate_ << " Hz";
+      msg << description() << ": asked for " << s.rate << " Hz, the driver runs at " << nominalRate() << " Hz";
       warn(msg.str());
     }
   }
@@ -234,11 +229,6 @@ void V4l2Source::close()
 bool V4l2Source::isOpen() const
 {
   return capture_ != nullptr;
-}
-
-double V4l2Source::nominalRate() const
-{
-  return nominal_rate_;
 }
 
 }  // namespace sl_camera

@@ -56,13 +56,11 @@ public:
                const AravisOptions& options = AravisOptions());
   ~AravisSource() override;
 
-  std::string description() const override;
   /** @throws CameraError naming the camera: NotFound when absent, Open when it refuses to stream. */
   void open() override;
   GrabStatus grab(Frame& frame, std::chrono::milliseconds timeout) override;
   void close() override;
   bool isOpen() const override;
-  double nominalRate() const override;
 
   /** Longest time close() waits for the teardown of a camera that still answers, s. */
   static constexpr double kCloseWait = 0.5;

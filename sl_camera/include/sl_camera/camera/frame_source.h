@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -87,7 +88,7 @@ public:
   virtual ~FrameSource() = default;
 
   /** Short description naming the back-end and the device, e.g. "V4L2 device /dev/video0". */
-  virtual std::string description() const = 0;
+  const std::string& description() const { return description_; }
 
   /**
    * Opens and configures the device (one initialisation for the whole stream).
@@ -109,8 +110,8 @@ public:
   /** True between a successful open() and close(). */
   virtual bool isOpen() const = 0;
 
-  /** Frame rate the open device runs at, Hz, or 0 when unknown. */
-  virtual double nominalRate() const { return 0.0; }
+  /** Frame rate the open device runs at, Hz, or 0 when unknown (as the back-end last set it). */
+  double nominalRate() const { return nominal_rate_; }
 
   /**
    * True while the open source holds back its frames on purpose (a player waiting for its start):
@@ -130,10 +131,18 @@ public:
   }
 
 protected:
+  /** @param description what description() returns: the back-end and the device, fixed for its life */
+  explicit FrameSource(std::string description) : description_(std::move(description)) {}
+
   /** Records a note for takeWarnings(). */
   void warn(const std::string& message) { warnings_.push_back(message); }
 
+  /** Sets what nominalRate() returns (when the device is opened or closed). */
+  void setNominalRate(double rate) { nominal_rate_ = rate; }
+
 private:
+  std::string description_;
+  double nominal_rate_ = 0.0;
   std::vector<std::string> warnings_;
 };
 

@@ -51,13 +51,11 @@ public:
   PlayerSource(const std::string& path, double rate, bool loop);
   ~PlayerSource() override;
 
-  std::string description() const override;
   /** Lists the folder (or opens the video); @throws CameraError naming the path. */
   void open() override;
   GrabStatus grab(Frame& frame, std::chrono::milliseconds timeout) override;
   void close() override;
   bool isOpen() const override;
-  double nominalRate() const override;
   /** True while a start gate is set and still closed (nothing played yet). */
   bool waiting() const override;
 

@@ -42,13 +42,11 @@ public:
   V4l2Source(const std::string& device, const SourceSettings& settings);
   ~V4l2Source() override;
 
-  std::string description() const override;
   /** @throws CameraError naming the device: NotFound when absent, Open when busy or not permitted. */
   void open() override;
   GrabStatus grab(Frame& frame, std::chrono::milliseconds timeout) override;
   void close() override;
   bool isOpen() const override;
-  double nominalRate() const override;
 
   /** The device path for @p device: an index n becomes "/dev/video<n>", a path stays. */
   static std::string devicePath(const std::string& device);
@@ -61,7 +59,6 @@ private:
   std::unique_ptr<cv::VideoCapture> capture_;
   cv::Mat raw_;
   int failures_in_row_ = 0;
-  double nominal_rate_ = 0.0;
 };
 
 }  // namespace sl_camera

@@ -112,7 +112,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image)
       const int cur_begin = static_cast<int>(runs_.size());
       extractRuns(y, w);
       const int cur_end = static_cast<int>(runs_.size());
-      accumulateRuns(cur_begin, cur_end);
+      keepRunWeights(cur_begin, cur_end);
       linkRows(prev_begin, prev_end, cur_begin, cur_end);
       prev_begin = cur_begin;
       prev_end = cur_end;
@@ -159,77 +159,45 @@ void BlobDetector::extractRuns(int y, int w)
   }
 }
 
-namespace
+void BlobDetector::keepRunWeights(int begin, int end)
 {
-/// Adds weight[x] for x in [from, to) to one run's sums, in pixel order.
-inline void addPixels(const float* weight, int from, int to, float& sw, float& swx, float& peak)
-{
-  for (int x = from; x < to; ++x)
+  // The centroid sums wait for centroids(): most blobs get the classifier's centroid instead.
+  for (int i = begin; i < end; ++i)
   {
-    const float wx = weight[x];
-    sw += wx;
-    swx += wx * static_cast<float>(x);
-    peak = std::max(peak, wx);
-  }
-}
-}  // namespace
-
-void BlobDetector::accumulateRuns(int begin, int end)
-{
-  // Four runs at a time: each run's sums still add its pixels in order (the same floats as one run
-  // at a time), but the four runs' dependency chains overlap.
-  const float* weight = weight_.data();
-  Run* runs = runs_.data();
-  int i = begin;
-  for (; i + 4 <= end; i += 4)
-  {
-    float sw[4] = { 0.f, 0.f, 0.f, 0.f }, swx[4] = { 0.f, 0.f, 0.f, 0.f }, peak[4] = { 0.f, 0.f, 0.f, 0.f };
-    int x0[4], len = std::numeric_limits<int>::max();
-    for (int k = 0; k < 4; ++k)
-    {
-      x0[k] = runs[i + k].x0;
-      len = std::min(len, runs[i + k].x1 - x0[k]);
-    }
-    for (int t = 0; t < len; ++t)
-      for (int k = 0; k < 4; ++k)
-      {
-        const int x = x0[k] + t;
-        const float wx = weight[x];
-        sw[k] += wx;
-        swx[k] += wx * static_cast<float>(x);
-        peak[k] = std::max(peak[k], wx);
-      }
-    for (int k = 0; k < 4; ++k)
-    {
-      Run& run = runs[i + k];
-      addPixels(weight, x0[k] + len, run.x1, sw[k], swx[k], peak[k]);
-      run.sw = sw[k];
-      run.swx = swx[k];
-      run.peak = peak[k];
-    }
-  }
-  for (; i < end; ++i)
-  {
-    Run& run = runs[i];
-    run.sw = run.swx = run.peak = 0.f;
-    addPixels(weight, run.x0, run.x1, run.sw, run.swx, run.peak);
+    Run& run = runs_[static_cast<size_t>(i)];
+    run.weights = static_cast<int32_t>(run_weights_.size());
+    run_weights_.insert(run_weights_.end(), weight_.begin() + run.x0, weight_.begin() + run.x1);
+    const float* w = run_weights_.data() + run.weights;
+    float peak = 0.f;
+    for (int k = 0; k < run.x1 - run.x0; ++k)
+      peak = std::max(peak, w[k]);
+    run.peak = peak;
   }
 }
 
 void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
 {
+  detectBoxes(image, blobs);
+  centroids(blobs);
+}
+
+void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
+{
   CV_Assert(image.type() == CV_8UC1);
   blobs.clear();
   runs_.clear();
+  component_runs_.clear();
+  run_weights_.clear();
+  kept_component_.clear();
   split_pixels_ = 0;
+  components_ = 0;
   if (image.empty())
     return;
   thresholdAndLink(image);
-  // Accumulate runs into components (roots are the first run of each component).
+  // Runs into components (roots are the first run of each component).
   blob_of_root_.assign(runs_.size(), -1);
-  std::vector<Acc>& acc = acc_;
-  acc.clear();
-  components_ = 0;
+  component_of_.resize(runs_.size());
+  peak_.clear();
   for (size_t i = 0; i < runs_.size(); ++i)
   {
     const int root = find(static_cast<int>(i));
@@ -244,37 +212,37 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
       b.y0 = run.y;
       b.y1 = run.y + 1;
       blobs.push_back(b);
-      acc.push_back(Acc{ 0.f, 0.f, 0.f, 0.f });
+      peak_.push_back(0.f);
       ++components_;
     }
+    component_of_[i] = index;
     Blob& b = blobs[static_cast<size_t>(index)];
-    Acc& a = acc[static_cast<size_t>(index)];
     b.x0 = std::min(b.x0, run.x0);
     b.x1 = std::max(b.x1, run.x1);
     b.y1 = run.y + 1;
     b.area += run.x1 - run.x0;
-    a.sw += run.sw;
-    a.swx += run.swx;
-    a.swy += run.sw * static_cast<float>(run.y);
-    a.peak = std::max(a.peak, run.peak);
+    float& peak = peak_[static_cast<size_t>(index)];
+    peak = std::max(peak, run.peak);
   }
 
-  // Filter and finish in place; oversized components with contrast are split afterwards.
+  // Filter in place; oversized components with contrast are split afterwards. Every foreground
+  // pixel's weight is above the offset (>= 0), so a component's weight sum is positive.
   size_t kept = 0;
   oversized_.clear();
   region_of_.assign(blobs.size(), -1);
   for (size_t i = 0; i < blobs.size(); ++i)
   {
     Blob b = blobs[i];
-    const Acc& a = acc[i];
-    if (a.peak < config_.min_contrast || a.sw <= 0.f || b.area < config_.min_area)
+    const float peak = peak_[i];
+    if (peak < config_.min_contrast || b.area < config_.min_area)
       continue;
-    b.u = a.swx / a.sw;
-    b.v = a.swy / a.sw;
-    b.contrast = a.peak;
+    b.contrast = peak;
     const bool split = config_.split_merged;
     if (primitiveSized(b) && !(split && merged(b)))
+    {
       blobs[kept++] = b;
+      kept_component_.push_back(static_cast<int32_t>(i));
+    }
     else if (split && (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height ||
                        b.area > config_.max_area || static_cast<double>(b.width()) > config_.max_aspect * b.height()))
     {
@@ -284,8 +252,53 @@ void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
   }
   blobs.resize(kept);
   collectSpans();
+  // Splitting labels again in runs_: the image's runs move to component_runs_ for centroids().
+  component_runs_.swap(runs_);
   for (const Region& r : oversized_)
     splitOversized(image, r, blobs);
+}
+
+void BlobDetector::centroids(std::vector<Blob>& blobs)
+{
+  // Which components need it; then one pass over the runs in row order, each run's pixels summed
+  // in order, as the sums were always formed.
+  const size_t n = std::min(kept_component_.size(), blobs.size());
+  wanted_.assign(static_cast<size_t>(components_), -1);
+  bool any = false;
+  for (size_t k = 0; k < n; ++k)
+    if (blobs[k].shape == 0)
+    {
+      wanted_[static_cast<size_t>(kept_component_[k])] = static_cast<int32_t>(k);
+      any = true;
+    }
+  if (!any)
+    return;
+  acc_.assign(n, Acc{ 0.f, 0.f, 0.f });
+  for (size_t i = 0; i < component_runs_.size(); ++i)
+  {
+    const int32_t k = wanted_[static_cast<size_t>(component_of_[i])];
+    if (k < 0)
+      continue;
+    const Run& run = component_runs_[i];
+    const float* w = run_weights_.data() + run.weights;
+    float sw = 0.f, swx = 0.f;
+    for (int x = run.x0; x < run.x1; ++x)
+    {
+      const float wx = w[x - run.x0];
+      sw += wx;
+      swx += wx * static_cast<float>(x);
+    }
+    Acc& a = acc_[static_cast<size_t>(k)];
+    a.sw += sw;
+    a.swx += swx;
+    a.swy += sw * static_cast<float>(run.y);
+  }
+  for (size_t k = 0; k < n; ++k)
+    if (blobs[k].shape == 0)
+    {
+      blobs[k].u = acc_[k].swx / acc_[k].sw;
+      blobs[k].v = acc_[k].swy / acc_[k].sw;
+    }
 }
 
 void BlobDetector::collectSpans()
@@ -296,7 +309,7 @@ void BlobDetector::collectSpans()
   part_of_run_.resize(runs_.size());
   for (size_t i = 0; i < runs_.size(); ++i)
   {
-    const int32_t r = region_of_[static_cast<size_t>(blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))])];
+    const int32_t r = region_of_[static_cast<size_t>(component_of_[i])];
     part_of_run_[i] = r;
     if (r >= 0)
       ++oversized_[static_cast<size_t>(r)].end;

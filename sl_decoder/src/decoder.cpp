@@ -91,7 +91,7 @@ void Decoder::decode(const cv::Mat& image, DecodeResult& result)
   Clock::time_point start = Clock::now(), t = start;
   result.identified = result.decoded = result.valid = 0;
 
-  detector_.detect(image, result.blobs);
+  detector_.detectBoxes(image, result.blobs);
   result.times.detect = msSince(t);
 
   for (Blob& b : result.blobs)
@@ -106,6 +106,7 @@ void Decoder::decode(const cv::Mat& image, DecodeResult& result)
     }
     result.identified += b.shape > 0;
   }
+  detector_.centroids(result.blobs);  // the blobs that keep the labelling's centroid
   result.times.classify = msSince(t);
 
   findCandidates(result);

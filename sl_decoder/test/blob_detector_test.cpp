@@ -200,6 +200,45 @@ TEST(BlobDetector, VectorPathsGiveIdenticalBlobs)
   EXPECT_GT(blobs_seen, 500);
 }
 
+TEST(BlobDetector, DeferredCentroidsAreTheCentroidsDetectGives)
+{
+  // The decoder asks for the labelling's centroid only for the blobs left unidentified: they get
+  // the same floats as detect() gives; the others' stay as the caller set them.
+  cv::RNG rng(20261205);
+  int checked = 0;
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    const cv::Mat image = randomScene(rng, rng.uniform(40, 300), rng.uniform(20, 120));
+    DecoderConfig config;
+    config.split_merged = trial % 2 == 0;
+    BlobDetector detector(config);
+    detector.setPrimitiveSize(5.0, 9.0, 7.0);
+    std::vector<Blob> reference, blobs;
+    detector.detect(image, reference);
+    detector.detectBoxes(image, blobs);
+    ASSERT_EQ(blobs.size(), reference.size());
+    for (size_t i = 0; i < blobs.size(); ++i)
+      if (i % 3 == 0 && blobs[i].level == 0)
+      {
+        blobs[i].shape = 1;
+        blobs[i].u = blobs[i].v = -7.f;  // as if refined
+      }
+    detector.centroids(blobs);
+    for (size_t i = 0; i < blobs.size(); ++i)
+    {
+      if (blobs[i].shape == 1)
+      {
+        EXPECT_EQ(blobs[i].u, -7.f) << "a blob with a shape keeps its centroid";
+        continue;
+      }
+      ASSERT_EQ(std::memcmp(&blobs[i].u, &reference[i].u, sizeof(float)), 0) << "trial " << trial << " blob " << i;
+      ASSERT_EQ(std::memcmp(&blobs[i].v, &reference[i].v, sizeof(float)), 0) << "trial " << trial << " blob " << i;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(ShapeClassifier, Avx2ResamplingGivesIdenticalCorrelations)
 {
   // Boxes of every size a primitive takes (and some it does not), anywhere in images of varied

@@ -36,11 +36,28 @@ public:
   explicit BlobDetector(const DecoderConfig& config = DecoderConfig());
 
   /**
-   * @brief Detects blobs in a CV_8UC1 image.
+   * @brief Detects blobs in a CV_8UC1 image: detectBoxes(), then centroids().
    * @param image mono8 image.
    * @param[out] blobs cleared and filled (capacity reused).
    */
   void detect(const cv::Mat& image, std::vector<Blob>& blobs);
+
+  /**
+   * @brief Detects blobs as detect() does, but leaves the centroid (u, v) of the blobs that are
+   * whole components unset: centroids() sets it later, for the blobs that still need it.
+   *
+   * The decoder replaces the centroid of every identified blob (ShapeClassifier::refineCentroid),
+   * so it only asks for the others'. Blobs split from oversized components and saturated bands
+   * get their centroid here.
+   */
+  void detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs);
+
+  /**
+   * @brief Sets u, v of the blobs of the last detectBoxes() that have shape 0: the centroid of
+   * their pixels weighted by value minus local mean, the same floats as detect() gives.
+   * @param blobs the vector detectBoxes() filled (its first blobs unmoved; shapes may be set).
+   */
+  void centroids(std::vector<Blob>& blobs);
 
   /**
    * @brief The size of one primitive's box in the image (from the rig at the nominal depth), px.
@@ -83,7 +100,7 @@ private:
   {
     int32_t y, x0, x1;  // [x0, x1)
     int32_t parent;     // union-find over runs
-    float sw, swx;      // sum of weights, sum of weight * x
+    int32_t weights;    // index of its first pixel's weight in run_weights_
     float peak;         // max weight
   };
 
@@ -102,7 +119,7 @@ private:
 
   struct Acc
   {
-    float sw, swx, swy, peak;
+    float sw, swx, swy;
   };
 
   // Inline (defined in blob_detector.cpp, the only user): called per run, a call through the shared
@@ -113,8 +130,8 @@ private:
   void thresholdAndLink(const cv::Mat& image);
   /// Appends the runs of row @p y from the bit mask bits_.
   void extractRuns(int y, int w);
-  /// Sums the weights (weight_) of the runs [begin, end): sw, swx and peak.
-  void accumulateRuns(int begin, int end);
+  /// Keeps the weights (weight_) of the runs [begin, end) in run_weights_ and sets their peak.
+  void keepRunWeights(int begin, int end);
   /// Unites the runs [cur_begin, cur_end) of a row with the 8-connected ones of the row above.
   void linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end);
   /// True when a finished blob passes the size, aspect and fill filters.
@@ -152,7 +169,13 @@ private:
   std::vector<float> weight_;          // value minus local mean of the current row's pixels
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
-  std::vector<Acc> acc_;
+  std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)
+  std::vector<float> run_weights_;       // weight of every run pixel, run after run
+  std::vector<float> peak_;              // per component of detect(): its peak weight
+  std::vector<int32_t> component_of_;    // per run: its component
+  std::vector<int32_t> kept_component_;  // per blob of the last detectBoxes() that is a whole component
+  std::vector<int32_t> wanted_;          // per component: the blob whose centroid centroids() sets, or -1
+  std::vector<Acc> acc_;                 // per blob of kept_component_: the centroid sums
   int components_ = 0;
   long split_pixels_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;

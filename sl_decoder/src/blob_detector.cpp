@@ -185,6 +185,7 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
 {
   CV_Assert(image.type() == CV_8UC1);
   blobs.clear();
+  runs_.swap(component_runs_);  // back: each buffer keeps its role (and its capacity) frame after frame
   runs_.clear();
   component_runs_.clear();
   run_weights_.clear();

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "slab.h"
 #include "validation.h"
 
 namespace sl_obstacle
@@ -74,23 +75,6 @@ int wrap(int v, int n)
   return r < 0 ? r + n : r;
 }
 
-/// Clips the parameter interval [t0, t1] of p0 + t * d to lo <= p <= hi. @return false if empty.
-bool clipSlab(double p0, double d, double lo, double hi, double& t0, double& t1)
-{
-  if (std::fabs(d) < 1e-12)
-  {
-    return p0 >= lo && p0 <= hi;
-  }
-  double ta = (lo - p0) / d;
-  double tb = (hi - p0) / d;
-  if (ta > tb)
-  {
-    std::swap(ta, tb);
-  }
-  t0 = std::max(t0, ta);
-  t1 = std::min(t1, tb);
-  return t0 <= t1;
-}
 }  // namespace
 
 void MapParams::validate() const
@@ -310,7 +294,7 @@ bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, do
   passRange(e.x0 / 255.0, e.x1 / 255.0, confirmed, x0, x1);
   passRange(e.y0 / 255.0, e.y1 / 255.0, confirmed, y0, y1);
   double t0 = 0.0, t1 = dt;
-  return clipSlab(fx, dfx, x0, x1, t0, t1) && clipSlab(fy, dfy, y0, y1, t0, t1);
+  return detail::clipSlab(fx, dfx, x0, x1, t0, t1) && detail::clipSlab(fy, dfy, y0, y1, t0, t1);
 }
 
 void LocalMap::traverse(const MapRay& r)
@@ -336,8 +320,8 @@ void LocalMap::traverse(const MapRay& r)
   const std::size_t skip = r.kind == RayKind::Free ? kNoVoxel : end_voxel;
 
   double t = 0.0, t1 = 1.0;
-  if (!clipSlab(r.sz, dz, params_.z_min, params_.z_max, t, t1) || !clipSlab(px, dx, 0.0, extent, t, t1) ||
-      !clipSlab(py, dy, 0.0, extent, t, t1))
+  if (!detail::clipSlab(r.sz, dz, params_.z_min, params_.z_max, t, t1) ||
+      !detail::clipSlab(px, dx, 0.0, extent, t, t1) || !detail::clipSlab(py, dy, 0.0, extent, t, t1))
   {
     return;
   }

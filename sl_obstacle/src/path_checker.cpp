@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "slab.h"
 #include "validation.h"
 
 namespace sl_obstacle
@@ -30,26 +31,14 @@ struct Span
   }
 };
 
-/// Narrows [lo, hi] (values of px) to a * px + b in [min, max].
+/// Narrows [lo, hi] (values of px) to a * px + b in [min, max]; empty: lo = inf, hi = -inf.
 void narrow(double a, double b, double min, double max, double& lo, double& hi)
 {
-  if (std::fabs(a) < 1e-12)
+  if (!detail::clipSlab(b, a, min, max, lo, hi))
   {
-    if (b < min || b > max)
-    {
-      lo = kInf;
-      hi = -kInf;
-    }
-    return;
+    lo = kInf;
+    hi = -kInf;
   }
-  double p = (min - b) / a;
-  double q = (max - b) / a;
-  if (p > q)
-  {
-    std::swap(p, q);
-  }
-  lo = std::max(lo, p);
-  hi = std::min(hi, q);
 }
 
 /// The straight sweep: segment from (ax, ay) along the unit vector (ux, uy) for length, radius r.

@@ -39,7 +39,7 @@ private:
     try
     {
       rig_ = sl_projector::loadRigParam(pnh, "rig_file").rig;  // the simulator's rig
-      if (!pnh.getParam("scene_file", scene_file) || scene_file.empty())
+      if (!sl_params::readIfSet(pnh, "scene_file", scene_file) || scene_file.empty())
         throw std::invalid_argument("~scene_file: required (a scene with a plane named 'wall', e.g. calib_wall.yaml)");
       scene_ = sl_sim::loadScene(scene_file);
       sl_params::readIfSet(pnh, "reference", reference);

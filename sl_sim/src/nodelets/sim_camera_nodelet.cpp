@@ -59,7 +59,7 @@ void readFiles(const ros::NodeHandle& pnh, SimParams& p)
   sl_projector::RigParam rig = sl_projector::loadRigParam(pnh, "rig_file");
   p.rig_file = std::move(rig.file);
   p.rig = std::move(rig.rig);
-  if (!pnh.getParam("scene_file", p.scene_file) || p.scene_file.empty())
+  if (!sl_params::readIfSet(pnh, "scene_file", p.scene_file) || p.scene_file.empty())
     throw std::invalid_argument("~scene_file: required (a scene file, e.g. $(find sl_sim)/scenes/room.yaml)");
   try
   {

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <string>
 
@@ -83,6 +84,10 @@ protected:
     std::lock_guard<std::mutex> lock(mutex_);
     last_ = msg;
     ++statuses_;
+    // The order of the first decision on each image's cloud and the first on the map with its rays.
+    first_on_cloud_.emplace(msg.cloud_stamp.toNSec(), statuses_);
+    if (!msg.map_stamp.isZero())
+      first_on_map_.emplace(msg.map_stamp.toNSec(), statuses_);
   }
   void onLog(const rosgraph_msgs::Log& msg)
   {
@@ -120,6 +125,7 @@ protected:
   std::mutex mutex_;
   sl_obstacle::ObstacleStatus last_;
   int statuses_ = 0;
+  std::map<uint64_t, int> first_on_cloud_, first_on_map_;  // image stamp -> index of the status
   bool state_error_ = false;
 };
 
@@ -143,6 +149,24 @@ TEST_F(ObstacleMap, StopsWithoutOdometryAndNamesAMissingField)
   run(3.0, true, false);
   std::lock_guard<std::mutex> lock(mutex_);
   EXPECT_TRUE(state_error_) << "a ray cloud without the state field must be refused by name";
+}
+
+TEST_F(ObstacleMap, DecidesAgainOnEachMapUpdateAfterTheStopCheck)
+{
+  // Each image's rays go into the map after the decision on its cloud; the node then decides again,
+  // and that status names the image in map_stamp.
+  run(3.0, true, true);
+  std::lock_guard<std::mutex> lock(mutex_);
+  int ordered = 0;
+  for (const auto& m : first_on_map_)
+  {
+    const auto c = first_on_cloud_.find(m.first);
+    if (c == first_on_cloud_.end())
+      continue;  // its points were dropped: the rays went in alone
+    EXPECT_LT(c->second, m.second) << "the map-updated plan came before the stop check on the cloud";
+    ++ordered;
+  }
+  EXPECT_GE(ordered, 15) << "about 30 images were published";
 }
 }  // namespace
 

@@ -42,6 +42,7 @@ void WorldModel::reset()
 {
   map_.clear();
   summary_ = MapSummary();
+  turns_time_ = -std::numeric_limits<double>::infinity();
   started_ = false;
 }
 
@@ -80,7 +81,7 @@ void WorldModel::markBump(const Pose2D& robot, bool left, bool right, double now
   map_.markOccupiedDisc(robot.x + r * std::cos(a), robot.y + r * std::sin(a), 0.5 * params_.bump_depth + 0.02, now);
 }
 
-const MapSummary& WorldModel::summarize(const Pose2D& robot, double now)
+const MapSummary& WorldModel::summarize(const Pose2D& robot, double now, bool turns)
 {
   MapSummary& s = summary_;
   const double reach = params_.check_distance;
@@ -96,8 +97,33 @@ const MapSummary& WorldModel::summarize(const Pose2D& robot, double now)
   s.unknown = ahead.unknown;
   s.known_fraction = ahead.known_fraction;
   s.reverse_free = sweepStraight(map_, params_.footprint, robot.x, robot.y, robot.yaw, -1, reach, now).free;
+  if (turns || !(now - turns_time_ <= kTurnsMaxAge))
+  {
+    sweepTurns(robot, now);
+  }
+  else
+  {
+    // Straight ahead (turn 0) may have become the best heading since.
+    if (s.free > s.best_turn_free + 1e-6)
+    {
+      s.best_turn_free = s.free;
+      s.best_turn = 0.0;
+    }
+    if (s.reverse_free > s.best_reverse_free + 1e-6)
+    {
+      s.best_reverse_free = s.reverse_free;
+      s.best_reverse_turn = 0.0;
+    }
+  }
+  return s;
+}
+
+void WorldModel::sweepTurns(const Pose2D& robot, double now)
+{
+  MapSummary& s = summary_;
+  const double reach = params_.check_distance;
   s.best_turn = 0.0;
-  s.best_turn_free = ahead.free;
+  s.best_turn_free = s.free;
   s.left_free = s.right_free = 0.0;
   s.best_reverse_turn = 0.0;
   s.best_reverse_free = s.reverse_free;
@@ -128,7 +154,7 @@ const MapSummary& WorldModel::summarize(const Pose2D& robot, double now)
       }
     }
   }
-  return s;
+  turns_time_ = now;
 }
 FrameSummary withMap(FrameSummary f, const MapSummary& m, double tolerance)
 {

@@ -172,6 +172,32 @@ TEST(WorldModel, WallAheadStopsAtItsDistance)
   EXPECT_GT(s.free, expected - 0.06);
 }
 
+TEST(WorldModel, CandidateHeadingsAreSweptOnRequestAndReusedBriefly)
+{
+  // A wall ahead, open space to the sides: the candidate turns are swept with the map, then reused
+  // by the decisions in between (for up to kTurnsMaxAge), while straight ahead is always swept anew.
+  WorldModel world(params());
+  Pose2D robot;
+  double now = 0.0;
+  scan(world, robot, { { 0.9, 0.0, M_PI } }, now);
+  const double t0 = now;
+  const MapSummary swept = world.summarize(robot, t0, true);
+  ASSERT_GT(swept.best_turn_free, swept.free + 0.2) << "the wall blocks straight ahead: some turn is better";
+  // Then walls close in on every side.
+  scan(world, robot, { { 0.9, 0.0, M_PI }, { 0.0, 0.5, -M_PI / 2 }, { 0.0, -0.5, M_PI / 2 }, { -0.5, 0.0, 0.0 } }, now);
+  const MapSummary reused = world.summarize(robot, t0 + 0.05, false);
+  EXPECT_EQ(reused.best_turn, swept.best_turn);
+  EXPECT_EQ(reused.best_turn_free, swept.best_turn_free);
+  EXPECT_EQ(reused.left_free, swept.left_free);
+  EXPECT_EQ(reused.right_free, swept.right_free);
+  EXPECT_EQ(reused.best_reverse_free, swept.best_reverse_free);
+  const MapSummary fresh = world.summarize(robot, t0 + 0.05, true);
+  EXPECT_LT(fresh.best_turn_free, swept.best_turn_free - 0.2) << "the walls are nearer on every side";
+  const MapSummary aged = world.summarize(robot, t0 + 0.05 + WorldModel::kTurnsMaxAge + 0.01, false);
+  EXPECT_EQ(aged.best_turn_free, fresh.best_turn_free) << "turns older than kTurnsMaxAge are swept again";
+  EXPECT_EQ(aged.left_free, fresh.left_free);
+}
+
 TEST(WorldModel, TurnIntoTheBlindZoneIsRefused)
 {
   // The robot approaches a wall straight on and stops; a leg stands to its left, never in view.

@@ -82,8 +82,19 @@ public:
   void addRays(const std::vector<MapRay>& rays, double stamp);
   /// @brief A bumper fired at @p robot: marks the space in front of the pressed side occupied.
   void markBump(const Pose2D& robot, bool left, bool right, double now);
-  /// @brief The paths open to the robot at @p robot, at time @p now.
-  const MapSummary& summarize(const Pose2D& robot, double now);
+  /**
+   * @brief The paths open to the robot at @p robot, at time @p now.
+   *
+   * The candidate headings (best_turn, best_turn_free, left_free, right_free, best_reverse_turn,
+   * best_reverse_free) take most of the sweeps. With @p turns false they are those of the last
+   * summary that swept them, if it is at most kTurnsMaxAge old (a heading as long free as straight
+   * ahead is never worse than straight ahead); the paths straight ahead and back are always swept.
+   * The caller sweeps them on each map update; the decisions in between reuse them.
+   */
+  const MapSummary& summarize(const Pose2D& robot, double now, bool turns = true);
+
+  /// @brief Age (s) up to which summarize() reuses the candidate headings.
+  static constexpr double kTurnsMaxAge = 0.2;
 
   /// @brief The last summarize() result.
   const MapSummary& last() const { return summary_; }
@@ -99,7 +110,11 @@ public:
 private:
   WorldParams params_;
   LocalMap map_;
+  /// Sweeps the candidate headings of summary_ (its straight-ahead paths are set).
+  void sweepTurns(const Pose2D& robot, double now);
+
   MapSummary summary_;
+  double turns_time_ = -std::numeric_limits<double>::infinity();  // when sweepTurns() last ran
   bool started_ = false;
 };
 /**

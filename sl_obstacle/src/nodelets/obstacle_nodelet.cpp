@@ -84,7 +84,8 @@ private:
   void onReconfigure(ObstacleConfig& config, uint32_t level);
 
   /// Runs one decision step at @p now and carries it out. Caller holds mutex_.
-  void decide(const ros::Time& now);
+  /// One decision step; @p map_updated: right after a map update (the candidate turns are swept again).
+  void decide(const ros::Time& now, bool map_updated = false);
   void execute(const Decision& d, const ros::Time& now);
   MotionState motion() const;
   void sendGoal(double distance, double speed);
@@ -412,7 +413,7 @@ void ObstacleNodelet::insertRays(const Cloud::ConstPtr& rays, const Cloud::Const
   }
   world_->addRays(rays_, rays->header.stamp.toSec());
   map_stamp_ = rays->header.stamp;
-  decide(ros::Time::now());  // the plan on the updated map (the stop check on the cloud came first)
+  decide(ros::Time::now(), true);  // the plan on the updated map (the stop check on the cloud came first)
 }
 
 void ObstacleNodelet::onHazards(const sl_msgs::Hazards& msg)
@@ -646,7 +647,7 @@ MotionState ObstacleNodelet::motion() const
   return m;
 }
 
-void ObstacleNodelet::decide(const ros::Time& now)
+void ObstacleNodelet::decide(const ros::Time& now, bool map_updated)
 {
   if (params_.command_mode == CommandMode::CMD_VEL && velocity_goal_.update(now.toSec()))
   {
@@ -668,9 +669,9 @@ void ObstacleNodelet::decide(const ros::Time& now)
     {
       cloud.nearest_obstacle = cloud_contact_;  // the map keeps the clearance on the disc's travel
     }
-    decider_->onFrame(
-        world_ ? withMap(cloud, world_->summarize(pose_, now.toSec()), 3.0 * params_.settings.world.map.resolution)
-               : cloud);
+    decider_->onFrame(world_ ? withMap(cloud, world_->summarize(pose_, now.toSec(), map_updated),
+                                       3.0 * params_.settings.world.map.resolution)
+                             : cloud);
   }
   const Decision& d = decider_->step(now.toSec(), motion());
   execute(d, now);

@@ -193,7 +193,10 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
   split_pixels_ = 0;
   components_ = 0;
   if (image.empty())
+  {
+    runs_.swap(component_runs_);  // the roles as after a labelling
     return;
+  }
   thresholdAndLink(image);
   // Runs into components (roots are the first run of each component).
   blob_of_root_.assign(runs_.size(), -1);
@@ -238,6 +241,7 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
     if (peak < config_.min_contrast || b.area < config_.min_area)
       continue;
     b.contrast = peak;
+    b.u = b.v = std::numeric_limits<float>::quiet_NaN();  // centroids() sets it where it is still needed
     const bool split = config_.split_merged;
     if (primitiveSized(b) && !(split && merged(b)))
     {
@@ -267,7 +271,7 @@ void BlobDetector::centroids(std::vector<Blob>& blobs)
   wanted_.assign(static_cast<size_t>(components_), -1);
   bool any = false;
   for (size_t k = 0; k < n; ++k)
-    if (blobs[k].shape == 0)
+    if (std::isnan(blobs[k].u))
     {
       wanted_[static_cast<size_t>(kept_component_[k])] = static_cast<int32_t>(k);
       any = true;
@@ -295,7 +299,7 @@ void BlobDetector::centroids(std::vector<Blob>& blobs)
     a.swy += sw * static_cast<float>(run.y);
   }
   for (size_t k = 0; k < n; ++k)
-    if (blobs[k].shape == 0)
+    if (std::isnan(blobs[k].u))
     {
       blobs[k].u = acc_[k].swx / acc_[k].sw;
       blobs[k].v = acc_[k].swy / acc_[k].sw;

@@ -106,7 +106,7 @@ void Decoder::decode(const cv::Mat& image, DecodeResult& result)
     }
     result.identified += b.shape > 0;
   }
-  detector_.centroids(result.blobs);  // the blobs that keep the labelling's centroid
+  detector_.centroids(result.blobs);  // the blobs that keep the labelling's centroid (u still NaN)
   result.times.classify = msSince(t);
 
   findCandidates(result);

@@ -29,12 +29,14 @@ constexpr double kMaxIndex = 1e9;
 // the box around them: beside a thin object it says nothing, through the place of a stray point it
 // erases it.
 constexpr double kExtentMargin = 0.25;
-// A cell with this many hits holds a surface seen again and again (a 22 mm leg at 0.7 m returns
-// some 40 decoded points per image). A free ray lowers it only through the box around its hits shrunk
-// by kExtentInset on each side: a ray grazing a round object crosses the corners of the box of its
-// seen face, never the middle (a box corner lies inside a cylinder of radius up to
-// kExtentInset / (1 - 1/sqrt(2)), 17 mm in 2 cm cells; larger objects span several cells) ...
-constexpr std::uint8_t kConfirmedHits = 8;
+// A cell that is occupied and got hits from 3 or more (cloud, height slice) pairs holds a surface
+// seen again and again (a cluster of wrong decodings in one image is not). A free ray lowers it only
+// through the box around its hits shrunk by kExtentInset on each side: a ray grazing a round object
+// crosses the corners of the box of its seen face, never the middle (a box corner lies inside a
+// cylinder of radius up to kExtentInset / (1 - 1/sqrt(2)), 17 mm in 2 cm cells; larger objects
+// span several cells). Once it decays below occupied, the few-hits rule applies again, so that the
+// place of an object that went away cannot stay unknown for good ...
+constexpr std::uint8_t kConfirmedHits = 3;
 constexpr double kExtentInset = 0.25;
 // ... but never narrower than this fraction of a cell on each side of the box's middle: the decoded
 // points are sub-millimetre exact, so a ray this close to the place of the hits passes where the
@@ -276,8 +278,7 @@ void LocalMap::growExtent(const MapRay& r)
   const std::uint8_t fx = fraction(r.ex);
   const std::uint8_t fy = fraction(r.ey);
   Extent& e = extent_[slot(static_cast<int>(lx), static_cast<int>(ly))];
-  e = { std::min(e.x0, fx), std::min(e.y0, fy), std::max(e.x1, fx), std::max(e.y1, fy),
-        static_cast<std::uint8_t>(e.hits < 255 ? e.hits + 1 : 255) };
+  e = { std::min(e.x0, fx), std::min(e.y0, fy), std::max(e.x1, fx), std::max(e.y1, fy), e.hits };
 }
 
 bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const
@@ -289,7 +290,7 @@ bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, do
   }
   // The piece of the ray inside the cell, in cell units from its lower left corner, against the
   // range around (a few hits) or in the middle of (a confirmed surface) the box of the cell's hits.
-  const bool confirmed = e.hits >= kConfirmedHits;
+  const bool confirmed = e.hits >= kConfirmedHits && occupiedAt(cell, batch_stamp_);
   double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
   passRange(e.x0 / 255.0, e.x1 / 255.0, confirmed, x0, x1);
   passRange(e.y0 / 255.0, e.y1 / 255.0, confirmed, y0, y1);
@@ -384,6 +385,8 @@ void LocalMap::applyBatch(double stamp)
     if (f & kFlagHit)
     {
       l = std::min(l + hit, clamp);
+      std::uint8_t& hits = extent_[v / slices_].hits;  // one per cloud and slice
+      hits = hits < 255 ? hits + 1 : 255;
     }
     else if ((f & kFlagSuspects) || !(f & kFlagFree))
     {
@@ -408,9 +411,18 @@ void LocalMap::forgetExtentIfEmpty(std::size_t cell)
   }
 }
 
+bool LocalMap::occupiedAt(std::size_t cell, double stamp) const
+{
+  const float* l = &logodds_[cell * slices_];
+  const double last = updated_[cell];
+  const double f = stamp > last && last > -kInf ? std::exp(-(stamp - last) / params_.decay) : 1.0;
+  return *std::max_element(l, l + slices_) * f > params_.occupied_threshold;
+}
+
 void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)
 {
   invalid_rays_ = 0;
+  batch_stamp_ = stamp;
   if (!std::isfinite(stamp))
   {
     invalid_rays_ = rays.size();

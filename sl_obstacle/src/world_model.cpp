@@ -74,6 +74,7 @@ void WorldModel::addRays(const std::vector<MapRay>& rays, double stamp)
 
 void WorldModel::markBump(const Pose2D& robot, bool left, bool right, double now)
 {
+  turns_time_ = -std::numeric_limits<double>::infinity();  // the map changed: sweep the turns again
   // A disc of bump_depth just beyond the bumper, straight ahead or 40 degrees to the pressed side.
   const double r = params_.footprint.radius + 0.5 * params_.bump_depth;
   const double side = left && !right ? 0.7 : (right && !left ? -0.7 : 0.0);
@@ -97,7 +98,11 @@ const MapSummary& WorldModel::summarize(const Pose2D& robot, double now, bool tu
   s.unknown = ahead.unknown;
   s.known_fraction = ahead.known_fraction;
   s.reverse_free = sweepStraight(map_, params_.footprint, robot.x, robot.y, robot.yaw, -1, reach, now).free;
-  if (turns || !(now - turns_time_ <= kTurnsMaxAge))
+  // Reused only while they are recent and were swept from about here (they are relative headings).
+  const bool recent = now >= turns_time_ && now - turns_time_ <= kTurnsMaxAge &&
+                      std::hypot(robot.x - turns_pose_.x, robot.y - turns_pose_.y) <= 0.02 &&
+                      std::abs(std::remainder(robot.yaw - turns_pose_.yaw, 2.0 * M_PI)) <= 0.05;
+  if (turns || !recent)
   {
     sweepTurns(robot, now);
   }
@@ -155,6 +160,7 @@ void WorldModel::sweepTurns(const Pose2D& robot, double now)
     }
   }
   turns_time_ = now;
+  turns_pose_ = robot;
 }
 FrameSummary withMap(FrameSummary f, const MapSummary& m, double tolerance)
 {

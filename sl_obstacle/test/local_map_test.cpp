@@ -126,7 +126,7 @@ TEST(LocalMap, RaysBesideAThinObstacleInItsCellDoNotEraseIt)
   map.insert(bothSlices(0.0F, 0.51F, 0.013F, RayKind::Hit), 3.0);
   for (int i = 0; i < 4; ++i)  // -0.35 + 2 * 0.85 - 4 * 0.4 = -0.25: unknown, and the hit forgotten
   {
-    map.insert(bothSlices(0.0F, 1.0F, 0.012F, RayKind::Free), 3.0);
+    map.insert(bothSlices(0.0F, 1.0F, 0.013F, RayKind::Free), 3.0);  // seen in two clouds: its very place
   }
   EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Unknown);
   map.insert(bothSlices(0.0F, 1.0F, 0.002F, RayKind::Free), 3.0);
@@ -156,6 +156,33 @@ TEST(LocalMap, AStrayHitIsErasedByRaysNearItAConfirmedSurfaceOnlyThroughIt)
   for (int i = 0; i < 12; ++i)
     surface.insert(bothSlices(0.0F, 1.0F, 0.013F, RayKind::Free), 3.0 + 0.1 * i);
   EXPECT_EQ(surface.state(0.51, 0.01, 5.0), CellState::Free);
+}
+
+TEST(LocalMap, OneCloudDoesNotConfirmASurfaceAndDecayEndsTheConfirmation)
+{
+  // Twenty decoded points at one place in one image (a cluster of wrong decodings): still a few,
+  // erased by the rays 4 mm beside it.
+  MapParams no_decay;
+  no_decay.decay = 1e6;
+  LocalMap burst{ no_decay };
+  burst.insert(std::vector<MapRay>(20, ray(0.0F, 0.013F, kLow, 0.513F, 0.013F, kLow, RayKind::Hit)), 0.0);
+  ASSERT_EQ(burst.state(0.51, 0.01, 0.5), CellState::Occupied);
+  for (int i = 0; i < 12; ++i)
+    burst.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
+  EXPECT_EQ(burst.state(0.51, 0.01, 3.0), CellState::Free);
+  // A surface seen in five clouds keeps out the rays beside it while occupied; a minute later
+  // (decay 30 s) it is below occupied, and they erase it: the place of an object that went away
+  // does not stay unknown.
+  LocalMap faded{ MapParams() };
+  for (int i = 0; i < 5; ++i)
+    faded.insert(bothSlices(0.0F, 0.513F, 0.013F, RayKind::Hit), 0.1 * i);
+  for (int i = 0; i < 12; ++i)
+    faded.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
+  EXPECT_EQ(faded.state(0.51, 0.01, 3.0), CellState::Occupied);
+  ASSERT_EQ(faded.state(0.51, 0.01, 62.0), CellState::Unknown);
+  for (int i = 0; i < 12; ++i)
+    faded.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 62.0 + 0.1 * i);
+  EXPECT_EQ(faded.state(0.51, 0.01, 64.0), CellState::Free);
 }
 
 namespace

@@ -44,18 +44,18 @@ public:
 
   /**
    * @brief Detects blobs as detect() does, but leaves the centroid (u, v) of the blobs that are
-   * whole components unset: centroids() sets it later, for the blobs that still need it.
+   * whole components NaN: centroids() sets the ones still NaN later.
    *
    * The decoder replaces the centroid of every identified blob (ShapeClassifier::refineCentroid),
-   * so it only asks for the others'. Blobs split from oversized components and saturated bands
-   * get their centroid here.
+   * so it only asks for the others' (and for those whose refinement found no light). Blobs split
+   * from oversized components and saturated bands get their centroid here.
    */
   void detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs);
 
   /**
-   * @brief Sets u, v of the blobs of the last detectBoxes() that have shape 0: the centroid of
+   * @brief Sets u, v of the blobs of the last detectBoxes() whose u is still NaN: the centroid of
    * their pixels weighted by value minus local mean, the same floats as detect() gives.
-   * @param blobs the vector detectBoxes() filled (its first blobs unmoved; shapes may be set).
+   * @param blobs the vector detectBoxes() filled (its first blobs unmoved; u, v may be set).
    */
   void centroids(std::vector<Blob>& blobs);
 

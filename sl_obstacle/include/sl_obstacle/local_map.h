@@ -98,9 +98,9 @@ public:
   /// Inserts one cloud's rays taken at @p stamp (s). Free parts lower the log-odds of every slice
   /// they cross inside the band (3D traversal: Amanatides-Woo in x-y, z interpolated), except in a
   /// cell that holds hits, where only a ray passing near the box around those hits (grown by a
-  /// quarter cell) counts, and once the cell holds 8 hits or more (a surface seen again and again)
-  /// only a ray through the middle of that box (shrunk by a quarter cell, but at least a twentieth
-  /// of a cell either side of its centre): a ray beside a thin obstacle in the same cell, or grazing
+  /// quarter cell) counts, and while the cell is occupied with hits from 3 or more (cloud, slice)
+  /// pairs (a surface seen again and again) only a ray through the middle of that box (shrunk by a quarter cell, but at
+  /// least a twentieth of a cell either side of its centre): a ray beside a thin obstacle in the same cell, or grazing
   /// its flank from another side, says nothing about it. Hit ends
   /// inside the band raise their slice by `hit`, Suspect ends by `suspect`; within one batch a
   /// slice changes once: occupied beats suspect beats free where two or more Suspect rays end in
@@ -182,6 +182,8 @@ private:
   /// left corner, direction (dfx, dfy) per unit of the ray parameter, for @p dt of it) passes through
   /// the range the cell's hits ask for (see insert()), or if the cell holds no hit.
   bool passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const;
+  /// True if some slice of @p cell, decayed to @p stamp, is above occupied_threshold.
+  bool occupiedAt(std::size_t cell, double stamp) const;
   /// Forgets the hit extent of @p cell once no slice holds positive log-odds.
   void forgetExtentIfEmpty(std::size_t cell);
 
@@ -189,7 +191,7 @@ private:
   struct Extent
   {
     std::uint8_t x0, y0, x1, y1;  ///< box of the hits in 1/255 of a cell from its lower left corner
-    std::uint8_t hits;            ///< hits that formed it (saturating)
+    std::uint8_t hits;            ///< (cloud, slice) pairs that brought hits (saturating)
   };
   static constexpr Extent kNoExtent = { 255, 255, 0, 0, 0 };      ///< empty box: no hit
   static constexpr Extent kFullExtent = { 0, 0, 255, 255, 255 };  ///< the whole cell (a bump)
@@ -213,6 +215,7 @@ private:
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> touched_;  // voxels flagged in the current batch (sized for all)
   std::size_t touched_count_ = 0;
+  double batch_stamp_ = 0.0;  // stamp of the cloud insert() is adding
   std::size_t invalid_rays_ = 0;
 };
 }  // namespace sl_obstacle

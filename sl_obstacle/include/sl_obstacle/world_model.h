@@ -87,8 +87,9 @@ public:
    *
    * The candidate headings (best_turn, best_turn_free, left_free, right_free, best_reverse_turn,
    * best_reverse_free) take most of the sweeps. With @p turns false they are those of the last
-   * summary that swept them, if it is at most kTurnsMaxAge old (a heading as long free as straight
-   * ahead is never worse than straight ahead); the paths straight ahead and back are always swept.
+   * summary that swept them, if it is at most kTurnsMaxAge old, was swept within 2 cm and 0.05 rad
+   * of @p robot and no bump came since (a heading as long free as straight ahead is never worse
+   * than straight ahead); the paths straight ahead and back are always swept.
    * The caller sweeps them on each map update; the decisions in between reuse them.
    */
   const MapSummary& summarize(const Pose2D& robot, double now, bool turns = true);
@@ -115,6 +116,7 @@ private:
 
   MapSummary summary_;
   double turns_time_ = -std::numeric_limits<double>::infinity();  // when sweepTurns() last ran
+  Pose2D turns_pose_;                                             // ... and from where
   bool started_ = false;
 };
 /**

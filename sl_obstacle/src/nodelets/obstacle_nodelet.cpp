@@ -272,6 +272,7 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
   if (world_ && changesWorld(config, config_))
   {
     world_ = std::make_unique<WorldModel>(settings.world);
+    map_stamp_ = ros::Time();  // the new map holds no image yet
     NODELET_WARN("map parameters changed: the local map starts empty");
   }
   if (filter_)

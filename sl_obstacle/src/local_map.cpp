@@ -290,7 +290,7 @@ bool LocalMap::passesHits(std::size_t cell, double fx, double fy, double dfx, do
   }
   // The piece of the ray inside the cell, in cell units from its lower left corner, against the
   // range around (a few hits) or in the middle of (a confirmed surface) the box of the cell's hits.
-  const bool confirmed = e.hits >= kConfirmedHits && occupiedAt(cell, batch_stamp_);
+  const bool confirmed = e.hits >= kConfirmedHits && slotState(cell, batch_stamp_, nullptr) == CellState::Occupied;
   double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
   passRange(e.x0 / 255.0, e.x1 / 255.0, confirmed, x0, x1);
   passRange(e.y0 / 255.0, e.y1 / 255.0, confirmed, y0, y1);
@@ -409,14 +409,6 @@ void LocalMap::forgetExtentIfEmpty(std::size_t cell)
   {
     extent_[cell] = LocalMap::kNoExtent;
   }
-}
-
-bool LocalMap::occupiedAt(std::size_t cell, double stamp) const
-{
-  const float* l = &logodds_[cell * slices_];
-  const double last = updated_[cell];
-  const double f = stamp > last && last > -kInf ? std::exp(-(stamp - last) / params_.decay) : 1.0;
-  return *std::max_element(l, l + slices_) * f > params_.occupied_threshold;
 }
 
 void LocalMap::insert(const std::vector<MapRay>& rays, double stamp)

@@ -31,6 +31,15 @@ std::vector<MapRay> bothSlices(float sx, float ex, float y, RayKind kind)
   return { ray(sx, y, kLow, ex, y, kLow, kind), ray(sx, y, kHigh, ex, y, kHigh, kind) };
 }
 
+/// @p clouds clouds 0.1 s apart from @p t0, each the two rays of bothSlices(sx, ex, y, kind).
+void insertClouds(LocalMap& map, int clouds, double t0, float sx, float ex, float y, RayKind kind)
+{
+  for (int i = 0; i < clouds; ++i)
+  {
+    map.insert(bothSlices(sx, ex, y, kind), t0 + 0.1 * i);
+  }
+}
+
 int countCells(const LocalMap& map, double now, std::int8_t value)
 {
   std::vector<std::int8_t> data;
@@ -141,20 +150,15 @@ TEST(LocalMap, AStrayHitIsErasedByRaysNearItAConfirmedSurfaceOnlyThroughIt)
   MapParams no_decay;
   no_decay.decay = 1e6;
   LocalMap stray{ no_decay }, surface{ no_decay };
-  stray.insert(bothSlices(0.0F, 0.513F, 0.013F, RayKind::Hit), 0.0);
-  for (int i = 0; i < 5; ++i)
-    surface.insert(bothSlices(0.0F, 0.513F, 0.013F, RayKind::Hit), 0.1 * i);
+  insertClouds(stray, 1, 0.0, 0.0F, 0.513F, 0.013F, RayKind::Hit);
+  insertClouds(surface, 5, 0.0, 0.0F, 0.513F, 0.013F, RayKind::Hit);
   ASSERT_EQ(stray.state(0.51, 0.01, 0.5), CellState::Occupied);
   ASSERT_EQ(surface.state(0.51, 0.01, 0.5), CellState::Occupied);
-  for (int i = 0; i < 12; ++i)
-  {
-    stray.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
-    surface.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
-  }
+  insertClouds(stray, 12, 1.0, 0.0F, 1.0F, 0.017F, RayKind::Free);
+  insertClouds(surface, 12, 1.0, 0.0F, 1.0F, 0.017F, RayKind::Free);
   EXPECT_EQ(stray.state(0.51, 0.01, 3.0), CellState::Free);
   EXPECT_EQ(surface.state(0.51, 0.01, 3.0), CellState::Occupied);
-  for (int i = 0; i < 12; ++i)
-    surface.insert(bothSlices(0.0F, 1.0F, 0.013F, RayKind::Free), 3.0 + 0.1 * i);
+  insertClouds(surface, 12, 3.0, 0.0F, 1.0F, 0.013F, RayKind::Free);
   EXPECT_EQ(surface.state(0.51, 0.01, 5.0), CellState::Free);
 }
 
@@ -167,21 +171,17 @@ TEST(LocalMap, OneCloudDoesNotConfirmASurfaceAndDecayEndsTheConfirmation)
   LocalMap burst{ no_decay };
   burst.insert(std::vector<MapRay>(20, ray(0.0F, 0.013F, kLow, 0.513F, 0.013F, kLow, RayKind::Hit)), 0.0);
   ASSERT_EQ(burst.state(0.51, 0.01, 0.5), CellState::Occupied);
-  for (int i = 0; i < 12; ++i)
-    burst.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
+  insertClouds(burst, 12, 1.0, 0.0F, 1.0F, 0.017F, RayKind::Free);
   EXPECT_EQ(burst.state(0.51, 0.01, 3.0), CellState::Free);
   // A surface seen in five clouds keeps out the rays beside it while occupied; a minute later
   // (decay 30 s) it is below occupied, and they erase it: the place of an object that went away
   // does not stay unknown.
   LocalMap faded{ MapParams() };
-  for (int i = 0; i < 5; ++i)
-    faded.insert(bothSlices(0.0F, 0.513F, 0.013F, RayKind::Hit), 0.1 * i);
-  for (int i = 0; i < 12; ++i)
-    faded.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 1.0 + 0.1 * i);
+  insertClouds(faded, 5, 0.0, 0.0F, 0.513F, 0.013F, RayKind::Hit);
+  insertClouds(faded, 12, 1.0, 0.0F, 1.0F, 0.017F, RayKind::Free);
   EXPECT_EQ(faded.state(0.51, 0.01, 3.0), CellState::Occupied);
   ASSERT_EQ(faded.state(0.51, 0.01, 62.0), CellState::Unknown);
-  for (int i = 0; i < 12; ++i)
-    faded.insert(bothSlices(0.0F, 1.0F, 0.017F, RayKind::Free), 62.0 + 0.1 * i);
+  insertClouds(faded, 12, 62.0, 0.0F, 1.0F, 0.017F, RayKind::Free);
   EXPECT_EQ(faded.state(0.51, 0.01, 64.0), CellState::Free);
 }
 

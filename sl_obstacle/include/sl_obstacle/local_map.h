@@ -182,8 +182,6 @@ private:
   /// left corner, direction (dfx, dfy) per unit of the ray parameter, for @p dt of it) passes through
   /// the range the cell's hits ask for (see insert()), or if the cell holds no hit.
   bool passesHits(std::size_t cell, double fx, double fy, double dfx, double dfy, double dt) const;
-  /// True if some slice of @p cell, decayed to @p stamp, is above occupied_threshold.
-  bool occupiedAt(std::size_t cell, double stamp) const;
   /// Forgets the hit extent of @p cell once no slice holds positive log-odds.
   void forgetExtentIfEmpty(std::size_t cell);
 

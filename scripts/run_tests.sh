@@ -34,6 +34,11 @@ if [[ -f "$expected" ]]; then
     fi
   done < "$expected"
 fi
+# A rostest that left no results says why only in the run's log (a node that died, a time limit).
+if [[ $status -ne 0 || $missing -ne 0 ]]; then
+  grep -E 'process has died|terminate called|what\(\):|Segmentation fault|Aborted|time limit|timed out|\[ *FAILED *\]' \
+    "$log" | sort | uniq -c | sort -rn | head -n 40 || true
+fi
 summary="$(/usr/bin/python3 "$(dirname "$0")/test_summary.py" "$results" --missing "$missing")"
 summary_status=$?
 echo "$summary"

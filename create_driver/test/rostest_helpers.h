@@ -39,6 +39,11 @@ public:
                                hook_(*m);
                            });
   }
+  // The subscription ends before the members its callback writes are destroyed (the test's spinner
+  // threads may be running it); shutdown() waits for a callback in progress.
+  ~Latest() { sub_.shutdown(); }
+  Latest(const Latest&) = delete;
+  Latest& operator=(const Latest&) = delete;
   M get() const
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -78,6 +78,8 @@ class DiagnosticsWatch
 {
 public:
   DiagnosticsWatch() { sub_ = nh_.subscribe("/diagnostics", 50, &DiagnosticsWatch::callback, this); }
+  /// Ends the subscription (waiting for a callback in progress) before the members it writes go.
+  ~DiagnosticsWatch() { sub_.shutdown(); }
   /// The latest status named @p name ("ns/node: task"), if any. (Exact: "calibrated/camera" is a
   /// suffix of "uncalibrated/camera".)
   bool find(const std::string& name, diagnostic_msgs::DiagnosticStatus& out)
@@ -144,6 +146,8 @@ public:
   {
     sub_ = it_.subscribeCamera(ns + "/image_raw", 100, &CameraWatch::callback, this);
   }
+  /// Ends the subscription (waiting for a callback in progress) before the members it writes go.
+  ~CameraWatch() { sub_.shutdown(); }
   size_t size()
   {
     std::lock_guard<std::mutex> lock(mutex_);

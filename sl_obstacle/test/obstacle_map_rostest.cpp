@@ -77,6 +77,14 @@ protected:
     status_sub_ = nh_.subscribe("obstacle_status", 50, &ObstacleMap::onStatus, this);
     log_sub_ = nh_.subscribe("/rosout", 200, &ObstacleMap::onLog, this);
   }
+  // The spinner threads may be in a callback: end the subscriptions (shutdown() waits for it)
+  // before the members the callbacks write are destroyed.
+  void TearDown() override
+  {
+    twist_sub_.shutdown();
+    status_sub_.shutdown();
+    log_sub_.shutdown();
+  }
 
   void onTwist(const geometry_msgs::Twist&) {}
   void onStatus(const sl_obstacle::ObstacleStatus& msg)

@@ -112,7 +112,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image)
       const int cur_begin = static_cast<int>(runs_.size());
       extractRuns(y, w);
       const int cur_end = static_cast<int>(runs_.size());
-      keepRunWeights(cur_begin, cur_end);
+      setPeaks(cur_begin, cur_end);
       linkRows(prev_begin, prev_end, cur_begin, cur_end);
       prev_begin = cur_begin;
       prev_end = cur_end;
@@ -159,18 +159,17 @@ void BlobDetector::extractRuns(int y, int w)
   }
 }
 
-void BlobDetector::keepRunWeights(int begin, int end)
+void BlobDetector::setPeaks(int begin, int end)
 {
-  // The centroid sums wait for centroids(): most blobs get the classifier's centroid instead.
+  // The weights themselves are not kept: most blobs get the classifier's centroid, and
+  // centroids() forms the few others' again.
+  const float* w = weight_.data();
   for (int i = begin; i < end; ++i)
   {
     Run& run = runs_[static_cast<size_t>(i)];
-    run.weights = static_cast<int32_t>(run_weights_.size());
-    run_weights_.insert(run_weights_.end(), weight_.begin() + run.x0, weight_.begin() + run.x1);
-    const float* w = run_weights_.data() + run.weights;
     float peak = 0.f;
-    for (int k = 0; k < run.x1 - run.x0; ++k)
-      peak = std::max(peak, w[k]);
+    for (int x = run.x0; x < run.x1; ++x)
+      peak = std::max(peak, w[x]);
     run.peak = peak;
   }
 }
@@ -188,8 +187,8 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
   runs_.swap(component_runs_);  // back: each buffer keeps its role (and its capacity) frame after frame
   runs_.clear();
   component_runs_.clear();
-  run_weights_.clear();
   kept_component_.clear();
+  image_ = image;
   split_pixels_ = 0;
   components_ = 0;
   if (image.empty())
@@ -265,8 +264,6 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
 
 void BlobDetector::centroids(std::vector<Blob>& blobs)
 {
-  // Which components need it; then one pass over the runs in row order, each run's pixels summed
-  // in order, as the sums were always formed.
   const size_t n = std::min(kept_component_.size(), blobs.size());
   wanted_.assign(static_cast<size_t>(components_), -1);
   bool any = false;
@@ -278,32 +275,80 @@ void BlobDetector::centroids(std::vector<Blob>& blobs)
     }
   if (!any)
     return;
-  acc_.assign(n, Acc{ 0.f, 0.f, 0.f });
+  // Their runs, blob after blob, each blob's in row order: the order the sums were always formed in.
+  wanted_runs_.clear();
   for (size_t i = 0; i < component_runs_.size(); ++i)
   {
     const int32_t k = wanted_[static_cast<size_t>(component_of_[i])];
-    if (k < 0)
-      continue;
-    const Run& run = component_runs_[i];
-    const float* w = run_weights_.data() + run.weights;
-    float sw = 0.f, swx = 0.f;
-    for (int x = run.x0; x < run.x1; ++x)
-    {
-      const float wx = w[x - run.x0];
-      sw += wx;
-      swx += wx * static_cast<float>(x);
-    }
-    Acc& a = acc_[static_cast<size_t>(k)];
-    a.sw += sw;
-    a.swx += swx;
-    a.swy += sw * static_cast<float>(run.y);
+    if (k >= 0)
+      wanted_runs_.emplace_back(k, static_cast<int32_t>(i));
   }
-  for (size_t k = 0; k < n; ++k)
-    if (std::isnan(blobs[k].u))
+  std::sort(wanted_runs_.begin(), wanted_runs_.end());
+  for (size_t begin = 0, end = 0; begin < wanted_runs_.size(); begin = end)
+  {
+    const int32_t k = wanted_runs_[begin].first;
+    while (end < wanted_runs_.size() && wanted_runs_[end].first == k)
+      ++end;
+    const Integral sums = integrateAround(begin, end);
+    Acc acc{ 0.f, 0.f, 0.f };
+    for (size_t j = begin; j < end; ++j)
+      accumulate(component_runs_[static_cast<size_t>(wanted_runs_[j].second)], sums, acc);
+    Blob& b = blobs[static_cast<size_t>(k)];
+    b.u = acc.swx / acc.sw;
+    b.v = acc.swy / acc.sw;
+  }
+}
+
+BlobDetector::Integral BlobDetector::integrateAround(size_t begin, size_t end)
+{
+  // The runs' box grown by the window, clipped to the image: every window of their pixels.
+  const int r = config_.threshold_window / 2;
+  int x0 = image_.cols, x1 = 0, y0 = image_.rows, y1 = 0;
+  for (size_t j = begin; j < end; ++j)
+  {
+    const Run& run = component_runs_[static_cast<size_t>(wanted_runs_[j].second)];
+    x0 = std::min(x0, run.x0);
+    x1 = std::max(x1, run.x1);
+    y0 = std::min(y0, run.y);
+    y1 = std::max(y1, run.y + 1);
+  }
+  const Integral g{ std::max(0, x0 - r), std::max(0, y0 - r), std::min(image_.cols, x1 + r) - std::max(0, x0 - r) + 1 };
+  const int rows = std::min(image_.rows, y1 + r) - g.y0;
+  box_sums_.assign(static_cast<size_t>((rows + 1) * g.stride), 0);
+  for (int j = 0; j < rows; ++j)
+  {
+    const uint8_t* src = image_.ptr<uint8_t>(g.y0 + j) + g.x0;
+    const int32_t* above = box_sums_.data() + j * g.stride;
+    int32_t* out = box_sums_.data() + (j + 1) * g.stride;
+    int32_t row_sum = 0;
+    for (int i = 1; i < g.stride; ++i)
     {
-      blobs[k].u = acc_[k].swx / acc_[k].sw;
-      blobs[k].v = acc_[k].swy / acc_[k].sw;
+      row_sum += src[i - 1];
+      out[i] = above[i] + row_sum;
     }
+  }
+  return g;
+}
+
+void BlobDetector::accumulate(const Run& run, const Integral& sums, Acc& acc) const
+{
+  const int r = config_.threshold_window / 2, w = image_.cols;
+  const int ya = std::max(0, run.y - r), yb = std::min(image_.rows, run.y + r + 1);
+  const int32_t* top = box_sums_.data() + (ya - sums.y0) * sums.stride;
+  const int32_t* bottom = box_sums_.data() + (yb - sums.y0) * sums.stride;
+  const uint8_t* src = image_.ptr<uint8_t>(run.y);
+  float sw = 0.f, swx = 0.f;
+  for (int x = run.x0; x < run.x1; ++x)
+  {
+    const int xa = std::max(0, x - r) - sums.x0, xb = std::min(w, x + r + 1) - sums.x0;
+    const int32_t sum = bottom[xb] - bottom[xa] - top[xb] + top[xa];
+    const float wx = local_threshold::weightOf(src[x], sum, x, w, r, yb - ya);
+    sw += wx;
+    swx += wx * static_cast<float>(x);
+  }
+  acc.sw += sw;
+  acc.swx += swx;
+  acc.swy += sw * static_cast<float>(run.y);
 }
 
 void BlobDetector::collectSpans()

@@ -211,9 +211,12 @@ void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight)
     const int xa = std::max(0, b - r), xb = std::min(w, b + r + 1);
     const int32_t area = in.rows * (xb - xa);
     const int32_t off = static_cast<int32_t>(in.offset * static_cast<float>(area) + 0.5f);
+    // Only the foreground's weights are used: the division is skipped for the others.
     if (static_cast<int32_t>(in.src[b]) * area > pre[xb] - pre[xa] + off)
+    {
       bits[b >> 6] |= uint64_t{ 1 } << (b & 63);
-    weight[b] = static_cast<float>(in.src[b]) - static_cast<float>(pre[xb] - pre[xa]) / static_cast<float>(area);
+      weight[b] = weightOf(in.src[b], pre[xb] - pre[xa], b, w, r, in.rows);
+    }
   }
 }
 

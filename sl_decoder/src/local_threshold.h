@@ -49,8 +49,23 @@ struct RowInput
 };
 
 /**
+ * @brief value - mean of the pixel at column @p x of a row @p w wide: the same float operations as
+ * thresholdRow() uses, so the same bits.
+ * @param sum the sum of the pixel's window (the image's part of it), @p rows its rows
+ */
+inline float weightOf(uint8_t value, int32_t sum, int x, int w, int r, int rows)
+{
+  const float v = static_cast<float>(value);
+  const int lo = r < w ? r : w, hi = w - r - 1 > lo ? w - r - 1 : lo;
+  if (x >= lo && x < hi)  // the interior: one area, multiplied by its inverse
+    return v - static_cast<float>(sum) * (1.0f / static_cast<float>(rows * (2 * r + 1)));
+  const int xa = x - r > 0 ? x - r : 0, xb = x + r + 1 < w ? x + r + 1 : w;
+  return v - static_cast<float>(sum) / static_cast<float>(rows * (xb - xa));
+}
+
+/**
  * @brief Sets bit x of @p bits for the pixels brighter than their window's mean plus the offset,
- * and writes value - mean to weight[x] for every pixel.
+ * and writes value - mean to weight[x] for those pixels (the others' weight is left unspecified).
  * @param bits (w + 63) / 64 + 1 words, cleared here.
  * @param weight w values.
  */

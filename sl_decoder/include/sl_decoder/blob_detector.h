@@ -3,6 +3,7 @@
 /// @brief Local thresholding and 8-connected run-based labelling in one pass (ROS-free).
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -55,6 +56,9 @@ public:
   /**
    * @brief Sets u, v of the blobs of the last detectBoxes() whose u is still NaN: the centroid of
    * their pixels weighted by value minus local mean, the same floats as detect() gives.
+   *
+   * The weights are formed again from the image of that call (kept by reference: it must not have
+   * changed), over each such blob's box only.
    * @param blobs the vector detectBoxes() filled (its first blobs unmoved; u, v may be set).
    */
   void centroids(std::vector<Blob>& blobs);
@@ -100,7 +104,6 @@ private:
   {
     int32_t y, x0, x1;  // [x0, x1)
     int32_t parent;     // union-find over runs
-    int32_t weights;    // index of its first pixel's weight in run_weights_
     float peak;         // max weight
   };
 
@@ -130,8 +133,17 @@ private:
   void thresholdAndLink(const cv::Mat& image);
   /// Appends the runs of row @p y from the bit mask bits_.
   void extractRuns(int y, int w);
-  /// Keeps the weights (weight_) of the runs [begin, end) in run_weights_ and sets their peak.
-  void keepRunWeights(int begin, int end);
+  /// Sets the peak weight (weight_) of the runs [begin, end).
+  void setPeaks(int begin, int end);
+  /// An integral image in box_sums_: its first column and row in the image, and its row stride.
+  struct Integral
+  {
+    int x0, y0, stride;
+  };
+  /// Integrates image_ over the windows of the pixels of the runs wanted_runs_[begin, end).
+  Integral integrateAround(size_t begin, size_t end);
+  /// Adds the pixels of @p run, weighted by value minus local mean (the row pass's floats), to @p acc.
+  void accumulate(const Run& run, const Integral& sums, Acc& acc) const;
   /// Unites the runs [cur_begin, cur_end) of a row with the 8-connected ones of the row above.
   void linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end);
   /// True when a finished blob passes the size, aspect and fill filters.
@@ -170,12 +182,13 @@ private:
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
   std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)
-  std::vector<float> run_weights_;       // weight of every run pixel, run after run
+  cv::Mat image_;                        // the image of the last detectBoxes(), for centroids()
+  std::vector<int32_t> box_sums_;        // integral image around one blob (integrateAround())
+  std::vector<std::pair<int32_t, int32_t>> wanted_runs_;  // (blob, run) that centroids() weighs
   std::vector<float> peak_;              // per component of detect(): its peak weight
   std::vector<int32_t> component_of_;    // per run: its component
   std::vector<int32_t> kept_component_;  // per blob of the last detectBoxes() that is a whole component
   std::vector<int32_t> wanted_;          // per component: the blob whose centroid centroids() sets, or -1
-  std::vector<Acc> acc_;                 // per blob of kept_component_: the centroid sums
   int components_ = 0;
   long split_pixels_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;

@@ -6,6 +6,10 @@
 
 #include "local_threshold.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace sl_decoder
 {
 
@@ -71,7 +75,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image)
   col_sums_.assign((kRowBlock + 1) * ws, 0);
   prefix_.resize(kRowBlock * (ws + 1));
   bits_.resize(static_cast<size_t>((w + 63) >> 6) + 1);
-  weight_.resize(ws);
+  weight_.resize(ws + 4);  // setPeaks() reads 4 at a time
   // The rows above the first window's centre (slot 1 is scratch here).
   for (int y = 0; y < std::min(h, r); ++y)
   {
@@ -163,14 +167,31 @@ void BlobDetector::setPeaks(int begin, int end)
 {
   // The weights themselves are not kept: most blobs get the classifier's centroid, and
   // centroids() forms the few others' again.
+  // The maximum is exact in any order: 4 at a time gives the same peak as one at a time.
   const float* w = weight_.data();
   for (int i = begin; i < end; ++i)
   {
     Run& run = runs_[static_cast<size_t>(i)];
+#if defined(__SSE2__)
+    __m128 m = _mm_setzero_ps();
+    int x = run.x0;
+    for (; x + 4 <= run.x1; x += 4)
+      m = _mm_max_ps(m, _mm_loadu_ps(w + x));
+    if (x < run.x1)  // the last 1-3 pixels: lanes past the run count as 0 (weights of its pixels are > 0)
+    {
+      const __m128i lane = _mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3));
+      const __m128 inside = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(run.x1)));
+      m = _mm_max_ps(m, _mm_and_ps(_mm_loadu_ps(w + x), inside));
+    }
+    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+    run.peak = _mm_cvtss_f32(m);
+#else
     float peak = 0.f;
     for (int x = run.x0; x < run.x1; ++x)
       peak = std::max(peak, w[x]);
     run.peak = peak;
+#endif
   }
 }
 
@@ -197,54 +218,30 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
     return;
   }
   thresholdAndLink(image);
-  // Runs into components (roots are the first run of each component).
-  blob_of_root_.assign(runs_.size(), -1);
-  component_of_.resize(runs_.size());
-  peak_.clear();
-  for (size_t i = 0; i < runs_.size(); ++i)
-  {
-    const int root = find(static_cast<int>(i));
-    int32_t& index = blob_of_root_[static_cast<size_t>(root)];
-    const Run& run = runs_[i];
-    if (index < 0)
-    {
-      index = static_cast<int32_t>(blobs.size());
-      Blob b;
-      b.x0 = run.x0;
-      b.x1 = run.x1;
-      b.y0 = run.y;
-      b.y1 = run.y + 1;
-      blobs.push_back(b);
-      peak_.push_back(0.f);
-      ++components_;
-    }
-    component_of_[i] = index;
-    Blob& b = blobs[static_cast<size_t>(index)];
-    b.x0 = std::min(b.x0, run.x0);
-    b.x1 = std::max(b.x1, run.x1);
-    b.y1 = run.y + 1;
-    b.area += run.x1 - run.x0;
-    float& peak = peak_[static_cast<size_t>(index)];
-    peak = std::max(peak, run.peak);
-  }
-
-  // Filter in place; oversized components with contrast are split afterwards. Every foreground
-  // pixel's weight is above the offset (>= 0), so a component's weight sum is positive.
+  formComponents();
+  // Filter; oversized components with contrast are split afterwards. Every foreground pixel's
+  // weight is above the offset (>= 0), so a component's weight sum is positive.
   size_t kept = 0;
   oversized_.clear();
-  region_of_.assign(blobs.size(), -1);
-  for (size_t i = 0; i < blobs.size(); ++i)
+  region_of_.assign(boxes_.size(), -1);
+  for (size_t i = 0; i < boxes_.size(); ++i)
   {
-    Blob b = blobs[i];
-    const float peak = peak_[i];
-    if (peak < config_.min_contrast || b.area < config_.min_area)
+    const Box& box = boxes_[i];
+    if (box.peak < config_.min_contrast || box.area < config_.min_area)
       continue;
-    b.contrast = peak;
+    Blob b;
+    b.x0 = box.x0;
+    b.x1 = box.x1;
+    b.y0 = box.y0;
+    b.y1 = box.y1;
+    b.area = box.area;
+    b.contrast = box.peak;
     b.u = b.v = std::numeric_limits<float>::quiet_NaN();  // centroids() sets it where it is still needed
     const bool split = config_.split_merged;
     if (primitiveSized(b) && !(split && merged(b)))
     {
-      blobs[kept++] = b;
+      blobs.push_back(b);
+      ++kept;
       kept_component_.push_back(static_cast<int32_t>(i));
     }
     else if (split && (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height ||
@@ -254,7 +251,6 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
       oversized_.push_back(Region{ b, 0, 0 });
     }
   }
-  blobs.resize(kept);
   collectSpans();
   // Splitting labels again in runs_: the image's runs move to component_runs_ for centroids().
   component_runs_.swap(runs_);
@@ -349,6 +345,34 @@ void BlobDetector::accumulate(const Run& run, const Integral& sums, Acc& acc) co
   acc.sw += sw;
   acc.swx += swx;
   acc.swy += sw * static_cast<float>(run.y);
+}
+
+void BlobDetector::formComponents()
+{
+  // A run's parent is never a later run (unite() and find() only point back), so one forward pass
+  // labels them all: a root starts a component, any other run joins its parent's.
+  boxes_.clear();
+  component_of_.resize(runs_.size());
+  for (size_t i = 0; i < runs_.size(); ++i)
+  {
+    const Run& run = runs_[i];
+    int32_t c;
+    if (run.parent == static_cast<int32_t>(i))
+    {
+      c = static_cast<int32_t>(boxes_.size());
+      boxes_.push_back(Box{ run.x0, run.x1, run.y, run.y + 1, 0, 0.f });
+    }
+    else
+      c = component_of_[static_cast<size_t>(run.parent)];
+    component_of_[i] = c;
+    Box& b = boxes_[static_cast<size_t>(c)];
+    b.x0 = std::min(b.x0, run.x0);
+    b.x1 = std::max(b.x1, run.x1);
+    b.y1 = run.y + 1;
+    b.area += run.x1 - run.x0;
+    b.peak = std::max(b.peak, run.peak);
+  }
+  components_ = static_cast<int>(boxes_.size());
 }
 
 void BlobDetector::collectSpans()

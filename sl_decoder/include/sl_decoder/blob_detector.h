@@ -120,6 +120,13 @@ private:
     int32_t begin, end;
   };
 
+  /// A component of the row pass: its box, pixel count and peak weight.
+  struct Box
+  {
+    int32_t x0, x1, y0, y1, area;
+    float peak;
+  };
+
   struct Acc
   {
     float sw, swx, swy;
@@ -146,6 +153,8 @@ private:
   void accumulate(const Run& run, const Integral& sums, Acc& acc) const;
   /// Unites the runs [cur_begin, cur_end) of a row with the 8-connected ones of the row above.
   void linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end);
+  /// Labels the linked runs_ (component_of_) and forms the components' boxes_.
+  void formComponents();
   /// True when a finished blob passes the size, aspect and fill filters.
   bool primitiveSized(const Blob& b) const;
   /// True when a blob is wider than two merged primitives would need to be.
@@ -185,7 +194,7 @@ private:
   cv::Mat image_;                        // the image of the last detectBoxes(), for centroids()
   std::vector<int32_t> box_sums_;        // integral image around one blob (integrateAround())
   std::vector<std::pair<int32_t, int32_t>> wanted_runs_;  // (blob, run) that centroids() weighs
-  std::vector<float> peak_;              // per component of detect(): its peak weight
+  std::vector<Box> boxes_;               // per component of detectBoxes()
   std::vector<int32_t> component_of_;    // per run: its component
   std::vector<int32_t> kept_component_;  // per blob of the last detectBoxes() that is a whole component
   std::vector<int32_t> wanted_;          // per component: the blob whose centroid centroids() sets, or -1

@@ -221,9 +221,8 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
   formComponents();
   // Filter; oversized components with contrast are split afterwards. Every foreground pixel's
   // weight is above the offset (>= 0), so a component's weight sum is positive.
-  size_t kept = 0;
   oversized_.clear();
-  region_of_.assign(boxes_.size(), -1);
+  oversized_component_.clear();
   for (size_t i = 0; i < boxes_.size(); ++i)
   {
     const Box& box = boxes_[i];
@@ -241,13 +240,12 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
     if (primitiveSized(b) && !(split && merged(b)))
     {
       blobs.push_back(b);
-      ++kept;
       kept_component_.push_back(static_cast<int32_t>(i));
     }
     else if (split && (merged(b) || b.width() > config_.max_width || b.height() > config_.max_height ||
                        b.area > config_.max_area || static_cast<double>(b.width()) > config_.max_aspect * b.height()))
     {
-      region_of_[i] = static_cast<int32_t>(oversized_.size());
+      oversized_component_.push_back(static_cast<int32_t>(i));
       oversized_.push_back(Region{ b, 0, 0 });
     }
   }
@@ -261,53 +259,29 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
 void BlobDetector::centroids(std::vector<Blob>& blobs)
 {
   const size_t n = std::min(kept_component_.size(), blobs.size());
-  wanted_.assign(static_cast<size_t>(components_), -1);
-  bool any = false;
+  // Blob after blob, each one's runs in row order (between its first and last run): the order the
+  // sums were always formed in.
   for (size_t k = 0; k < n; ++k)
-    if (std::isnan(blobs[k].u))
-    {
-      wanted_[static_cast<size_t>(kept_component_[k])] = static_cast<int32_t>(k);
-      any = true;
-    }
-  if (!any)
-    return;
-  // Their runs, blob after blob, each blob's in row order: the order the sums were always formed in.
-  wanted_runs_.clear();
-  for (size_t i = 0; i < component_runs_.size(); ++i)
   {
-    const int32_t k = wanted_[static_cast<size_t>(component_of_[i])];
-    if (k >= 0)
-      wanted_runs_.emplace_back(k, static_cast<int32_t>(i));
-  }
-  std::sort(wanted_runs_.begin(), wanted_runs_.end());
-  for (size_t begin = 0, end = 0; begin < wanted_runs_.size(); begin = end)
-  {
-    const int32_t k = wanted_runs_[begin].first;
-    while (end < wanted_runs_.size() && wanted_runs_[end].first == k)
-      ++end;
-    const Integral sums = integrateAround(begin, end);
+    if (!std::isnan(blobs[k].u))
+      continue;
+    const int32_t c = kept_component_[k];
+    const Box& box = boxes_[static_cast<size_t>(c)];
+    const Integral sums = integrateAround(box);
     Acc acc{ 0.f, 0.f, 0.f };
-    for (size_t j = begin; j < end; ++j)
-      accumulate(component_runs_[static_cast<size_t>(wanted_runs_[j].second)], sums, acc);
-    Blob& b = blobs[static_cast<size_t>(k)];
-    b.u = acc.swx / acc.sw;
-    b.v = acc.swy / acc.sw;
+    for (int32_t i = box.first; i <= box.last; ++i)
+      if (component_of_[static_cast<size_t>(i)] == c)
+        accumulate(component_runs_[static_cast<size_t>(i)], sums, acc);
+    blobs[k].u = acc.swx / acc.sw;
+    blobs[k].v = acc.swy / acc.sw;
   }
 }
 
-BlobDetector::Integral BlobDetector::integrateAround(size_t begin, size_t end)
+BlobDetector::Integral BlobDetector::integrateAround(const Box& c)
 {
-  // The runs' box grown by the window, clipped to the image: every window of their pixels.
+  // The box grown by the window, clipped to the image: every window of its pixels.
   const int r = config_.threshold_window / 2;
-  int x0 = image_.cols, x1 = 0, y0 = image_.rows, y1 = 0;
-  for (size_t j = begin; j < end; ++j)
-  {
-    const Run& run = component_runs_[static_cast<size_t>(wanted_runs_[j].second)];
-    x0 = std::min(x0, run.x0);
-    x1 = std::max(x1, run.x1);
-    y0 = std::min(y0, run.y);
-    y1 = std::max(y1, run.y + 1);
-  }
+  const int x0 = c.x0, x1 = c.x1, y0 = c.y0, y1 = c.y1;
   const Integral g{ std::max(0, x0 - r), std::max(0, y0 - r), std::min(image_.cols, x1 + r) - std::max(0, x0 - r) + 1 };
   const int rows = std::min(image_.rows, y1 + r) - g.y0;
   box_sums_.assign(static_cast<size_t>((rows + 1) * g.stride), 0);
@@ -360,7 +334,7 @@ void BlobDetector::formComponents()
     if (run.parent == static_cast<int32_t>(i))
     {
       c = static_cast<int32_t>(boxes_.size());
-      boxes_.push_back(Box{ run.x0, run.x1, run.y, run.y + 1, 0, 0.f });
+      boxes_.push_back(Box{ run.x0, run.x1, run.y, run.y + 1, 0, 0.f, static_cast<int32_t>(i), 0 });
     }
     else
       c = component_of_[static_cast<size_t>(run.parent)];
@@ -371,6 +345,7 @@ void BlobDetector::formComponents()
     b.y1 = run.y + 1;
     b.area += run.x1 - run.x0;
     b.peak = std::max(b.peak, run.peak);
+    b.last = static_cast<int32_t>(i);
   }
   components_ = static_cast<int>(boxes_.size());
 }
@@ -380,15 +355,20 @@ void BlobDetector::collectSpans()
   spans_.clear();
   if (oversized_.empty())
     return;
-  part_of_run_.resize(runs_.size());
-  for (size_t i = 0; i < runs_.size(); ++i)
+  // Region after region, each one's runs in row order (they lie between its first and last run).
+  for (size_t k = 0; k < oversized_.size(); ++k)
   {
-    const int32_t r = region_of_[static_cast<size_t>(component_of_[i])];
-    part_of_run_[i] = r;
-    if (r >= 0)
-      ++oversized_[static_cast<size_t>(r)].end;
+    const int32_t c = oversized_component_[k];
+    const Box& box = boxes_[static_cast<size_t>(c)];
+    oversized_[k].begin = static_cast<int32_t>(spans_.size());
+    for (int32_t i = box.first; i <= box.last; ++i)
+      if (component_of_[static_cast<size_t>(i)] == c)
+      {
+        const Run& run = runs_[static_cast<size_t>(i)];
+        spans_.push_back(Span{ run.y, run.x0, run.x1 });
+      }
+    oversized_[k].end = static_cast<int32_t>(spans_.size());
   }
-  appendSpans(oversized_);
 }
 
 void BlobDetector::appendSpans(std::vector<Region>& regions)

@@ -3,7 +3,6 @@
 /// @brief Local thresholding and 8-connected run-based labelling in one pass (ROS-free).
 
 #include <cstdint>
-#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -120,11 +119,12 @@ private:
     int32_t begin, end;
   };
 
-  /// A component of the row pass: its box, pixel count and peak weight.
+  /// A component of the row pass: its box, pixel count, peak weight and its first and last run.
   struct Box
   {
     int32_t x0, x1, y0, y1, area;
     float peak;
+    int32_t first, last;
   };
 
   struct Acc
@@ -147,8 +147,8 @@ private:
   {
     int x0, y0, stride;
   };
-  /// Integrates image_ over the windows of the pixels of the runs wanted_runs_[begin, end).
-  Integral integrateAround(size_t begin, size_t end);
+  /// Integrates image_ over the windows of the pixels of component @p c (its box grown by them).
+  Integral integrateAround(const Box& c);
   /// Adds the pixels of @p run, weighted by value minus local mean (the row pass's floats), to @p acc.
   void accumulate(const Run& run, const Integral& sums, Acc& acc) const;
   /// Unites the runs [cur_begin, cur_end) of a row with the 8-connected ones of the row above.
@@ -159,7 +159,7 @@ private:
   bool primitiveSized(const Blob& b) const;
   /// True when a blob is wider than two merged primitives would need to be.
   bool merged(const Blob& b) const { return primitive_w_ > 0.0 && b.width() > 1.6 * primitive_w_; }
-  /// Copies the runs of the components in oversized_ (marked in region_of_) into spans_.
+  /// Copies the runs of the components in oversized_ (oversized_component_) into spans_.
   void collectSpans();
   /// Re-thresholds the pixels of an oversized component; parts that pass the filters join @p blobs.
   void splitOversized(const cv::Mat& image, const Region& component, std::vector<Blob>& blobs);
@@ -193,11 +193,9 @@ private:
   std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)
   cv::Mat image_;                        // the image of the last detectBoxes(), for centroids()
   std::vector<int32_t> box_sums_;        // integral image around one blob (integrateAround())
-  std::vector<std::pair<int32_t, int32_t>> wanted_runs_;  // (blob, run) that centroids() weighs
   std::vector<Box> boxes_;               // per component of detectBoxes()
   std::vector<int32_t> component_of_;    // per run: its component
   std::vector<int32_t> kept_component_;  // per blob of the last detectBoxes() that is a whole component
-  std::vector<int32_t> wanted_;          // per component: the blob whose centroid centroids() sets, or -1
   int components_ = 0;
   long split_pixels_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
@@ -207,7 +205,7 @@ private:
   // Splitting of oversized components (buffers reused).
   std::vector<Region> oversized_, pending_, parts_;
   std::vector<Span> spans_;           // pixels of the regions above
-  std::vector<int32_t> region_of_;    // per component of detect(): its index in oversized_, or -1
+  std::vector<int32_t> oversized_component_;  // per region of oversized_: its component
   std::vector<int32_t> part_of_run_;  // per run: its region (oversized_ or parts_), or -1
 };
 

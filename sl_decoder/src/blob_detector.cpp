@@ -12,6 +12,17 @@
 
 namespace sl_decoder
 {
+namespace
+{
+void setPrefix(local_threshold::RowInput& row, const int32_t* pre)
+{
+  row.pre = pre;
+}
+void setPrefix(local_threshold::RowInput& row, const uint16_t* pre)
+{
+  row.pre16 = pre;
+}
+}  // namespace
 
 BlobDetector::BlobDetector(const DecoderConfig& config)
   : config_(config), simd_(static_cast<Simd>(local_threshold::fastestPath()))
@@ -68,19 +79,29 @@ inline void BlobDetector::unite(int a, int b)
 
 void BlobDetector::thresholdAndLink(const cv::Mat& image)
 {
+  // 16-bit sums where every window's sum fits: twice the pixels per vector, the same sums.
+  if (local_threshold::narrowSumsFit(config_.threshold_window))
+    thresholdAndLink(image, col_sums16_, prefix16_);
+  else
+    thresholdAndLink(image, col_sums_, prefix_);
+}
+
+template <class T>
+void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_sums, std::vector<T>& prefix)
+{
   const int w = image.cols, h = image.rows;
   const int r = config_.threshold_window / 2;
   const size_t ws = static_cast<size_t>(w);
   // Column sums of kRowBlock rows (slot 0: the last row of the previous block) and their prefix sums.
-  col_sums_.assign((kRowBlock + 1) * ws, 0);
-  prefix_.resize(kRowBlock * (ws + 1));
+  col_sums.assign((kRowBlock + 1) * ws, 0);
+  prefix.resize(kRowBlock * (ws + 1));
   bits_.resize(static_cast<size_t>((w + 63) >> 6) + 1);
   weight_.resize(ws + 4);  // setPeaks() reads 4 at a time
   // The rows above the first window's centre (slot 1 is scratch here).
   for (int y = 0; y < std::min(h, r); ++y)
   {
-    local_threshold::slideColumnSums(col_sums_.data(), image.ptr<uint8_t>(y), nullptr, w, col_sums_.data() + ws);
-    std::copy(col_sums_.data() + ws, col_sums_.data() + 2 * ws, col_sums_.data());
+    local_threshold::slideColumnSums(col_sums.data(), image.ptr<uint8_t>(y), nullptr, w, col_sums.data() + ws);
+    std::copy(col_sums.data() + ws, col_sums.data() + 2 * ws, col_sums.data());
   }
   local_threshold::RowInput row;
   row.w = w;
@@ -91,26 +112,26 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image)
   for (int y0 = 0; y0 < h; y0 += kRowBlock)
   {
     const int n = std::min(kRowBlock, h - y0);
-    const int32_t* sums[kRowBlock];
-    int32_t* pre[kRowBlock];
+    const T* sums[kRowBlock];
+    T* pre[kRowBlock];
     for (int j = 0; j < n; ++j)
     {
       // The window of row y: add row y + r, drop row y - r - 1.
       const int y = y0 + j;
       const uint8_t* add = y + r < h ? image.ptr<uint8_t>(y + r) : nullptr;
       const uint8_t* sub = y - r - 1 >= 0 ? image.ptr<uint8_t>(y - r - 1) : nullptr;
-      int32_t* out = col_sums_.data() + static_cast<size_t>(j + 1) * ws;
+      T* out = col_sums.data() + static_cast<size_t>(j + 1) * ws;
       local_threshold::slideColumnSums(out - ws, add, sub, w, out);
       sums[j] = out;
-      pre[j] = prefix_.data() + static_cast<size_t>(j) * (ws + 1);
+      pre[j] = prefix.data() + static_cast<size_t>(j) * (ws + 1);
     }
     local_threshold::prefixSums(sums, pre, n, w);
-    std::copy(sums[n - 1], sums[n - 1] + w, col_sums_.data());
+    std::copy(sums[n - 1], sums[n - 1] + w, col_sums.data());
     for (int j = 0; j < n; ++j)
     {
       const int y = y0 + j;
       row.src = image.ptr<uint8_t>(y);
-      row.pre = pre[j];
+      setPrefix(row, pre[j]);
       row.rows = std::min(h, y + r + 1) - std::max(0, y - r);
       local_threshold::thresholdRow(row, path, bits_.data(), weight_.data());
       const int cur_begin = static_cast<int>(runs_.size());

@@ -14,11 +14,23 @@ namespace local_threshold
 
 namespace
 {
+// Window sums from prefix sums: int32_t ones, or uint16_t ones taken modulo 2^16, which is exact
+// while a window's sum stays below 65536 (narrowSumsFit()).
+inline int32_t windowSum(const int32_t* pre, int a, int b)
+{
+  return pre[b] - pre[a];
+}
+inline int32_t windowSum(const uint16_t* pre, int a, int b)
+{
+  return static_cast<uint16_t>(pre[b] - pre[a]);
+}
+
 /// The constants of the pixels whose window lies inside the row: one area, one threshold.
+template <class T>
 struct Interior
 {
   const uint8_t* src;
-  const int32_t* pre;
+  const T* pre;
   int r;
   float inv_area;  ///< 1 / area
   float off;       ///< offset rounded to the area's integer grid, over the area
@@ -39,11 +51,12 @@ inline void orBits(uint64_t* bits, int x, uint64_t m, int n)
 
 // Every path computes mean = float(sum) * inv_area, the test value > mean + off and the weight
 // value - mean, lane for lane the same operations: the results are bit-identical.
-int interiorPortable(const Interior& k, int x, int end)
+template <class T>
+int interiorPortable(const Interior<T>& k, int x, int end)
 {
   for (; x < end; ++x)
   {
-    const float mean = static_cast<float>(k.pre[x + k.r + 1] - k.pre[x - k.r]) * k.inv_area;
+    const float mean = static_cast<float>(windowSum(k.pre, x - k.r, x + k.r + 1)) * k.inv_area;
     const float value = static_cast<float>(k.src[x]);
     if (value > mean + k.off)
       k.bits[x >> 6] |= uint64_t{ 1 } << (x & 63);
@@ -53,7 +66,21 @@ int interiorPortable(const Interior& k, int x, int end)
 }
 
 #if defined(SL_X86)
-int interiorSse2(const Interior& k, int x, int end)
+/// The window sums of the 4 pixels from x as int32 lanes (prefix sums at x - r and x + r + 1).
+inline __m128i sums4(const int32_t* pre, int a, int b)
+{
+  return _mm_sub_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + b)),
+                       _mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + a)));
+}
+inline __m128i sums4(const uint16_t* pre, int a, int b)
+{
+  const __m128i d = _mm_sub_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(pre + b)),
+                                  _mm_loadl_epi64(reinterpret_cast<const __m128i*>(pre + a)));
+  return _mm_unpacklo_epi16(d, _mm_setzero_si128());
+}
+
+template <class T>
+int interiorSse2(const Interior<T>& k, int x, int end)
 {
   const __m128 inv_area = _mm_set1_ps(k.inv_area), off = _mm_set1_ps(k.off);
   const __m128i zero = _mm_setzero_si128();
@@ -67,9 +94,7 @@ int interiorSse2(const Interior& k, int x, int end)
     for (int q = 0; q < 4; ++q)
     {
       const int xq = x + 4 * q;
-      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(k.pre + xq + k.r + 1));
-      const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(k.pre + xq - k.r));
-      const __m128 mean = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(a, b)), inv_area);
+      const __m128 mean = _mm_mul_ps(_mm_cvtepi32_ps(sums4(k.pre, xq - k.r, xq + k.r + 1)), inv_area);
       const __m128 value = _mm_cvtepi32_ps(v32[q]);
       m |= static_cast<uint64_t>(_mm_movemask_ps(_mm_cmpgt_ps(value, _mm_add_ps(mean, off)))) << (4 * q);
       _mm_storeu_ps(k.weight + xq, _mm_sub_ps(value, mean));
@@ -79,8 +104,21 @@ int interiorSse2(const Interior& k, int x, int end)
   return x;
 }
 
+/// The window sums of the 8 pixels from x as int32 lanes.
+__attribute__((target("avx2"))) inline __m256i sums8(const int32_t* pre, int a, int b)
+{
+  return _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(pre + b)),
+                          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pre + a)));
+}
+__attribute__((target("avx2"))) inline __m256i sums8(const uint16_t* pre, int a, int b)
+{
+  return _mm256_cvtepu16_epi32(_mm_sub_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + b)),
+                                             _mm_loadu_si128(reinterpret_cast<const __m128i*>(pre + a))));
+}
+
 // Only "avx2", not "fma": a fused multiply-add would round differently from the other paths.
-__attribute__((target("avx2"))) int interiorAvx2(const Interior& k, int x, int end)
+template <class T>
+__attribute__((target("avx2"))) int interiorAvx2(const Interior<T>& k, int x, int end)
 {
   const __m256 inv_area = _mm256_set1_ps(k.inv_area), off = _mm256_set1_ps(k.off);
   for (; x + 32 <= end; x += 32)
@@ -90,9 +128,7 @@ __attribute__((target("avx2"))) int interiorAvx2(const Interior& k, int x, int e
     {
       const int xq = x + 8 * q;
       const __m256i v32 = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(k.src + xq)));
-      const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(k.pre + xq + k.r + 1));
-      const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(k.pre + xq - k.r));
-      const __m256 mean = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(a, b)), inv_area);
+      const __m256 mean = _mm256_mul_ps(_mm256_cvtepi32_ps(sums8(k.pre, xq - k.r, xq + k.r + 1)), inv_area);
       const __m256 value = _mm256_cvtepi32_ps(v32);
       const __m256 above = _mm256_cmp_ps(value, _mm256_add_ps(mean, off), _CMP_GT_OQ);
       m |= static_cast<uint64_t>(static_cast<uint32_t>(_mm256_movemask_ps(above))) << (8 * q);
@@ -127,7 +163,110 @@ void prefix4(const int32_t* const* v, int32_t* const* pre, int w)
     for (int i = x; i < w; ++i)
       pre[k][i + 1] = pre[k][i] + v[k][i];
 }
+
+/// The same modulo 2^16, eight sums per step.
+void prefix4(const uint16_t* const* v, uint16_t* const* pre, int w)
+{
+  __m128i carry[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    pre[k][0] = 0;
+    carry[k] = _mm_setzero_si128();
+  }
+  int x = 0;
+  for (; x + 8 <= w; x += 8)
+    for (int k = 0; k < 4; ++k)
+    {
+      __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
+      a = _mm_add_epi16(a, _mm_slli_si128(a, 2));
+      a = _mm_add_epi16(a, _mm_slli_si128(a, 4));
+      a = _mm_add_epi16(a, _mm_slli_si128(a, 8));
+      a = _mm_add_epi16(a, carry[k]);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), a);
+      const __m128i top = _mm_shufflehi_epi16(a, _MM_SHUFFLE(3, 3, 3, 3));  // lanes 4-7: lane 7
+      carry[k] = _mm_unpackhi_epi64(top, top);
+    }
+  for (int k = 0; k < 4; ++k)
+    for (int i = x; i < w; ++i)
+      pre[k][i + 1] = static_cast<uint16_t>(pre[k][i] + v[k][i]);
+}
 #endif
+
+template <class T>
+void slideColumnSumsT(const T* __restrict in, const uint8_t* __restrict add, const uint8_t* __restrict sub, int w,
+                      T* __restrict out)
+{
+  // One loop per case, each simple enough for the compiler to vectorise. Column sums are never
+  // negative nor above the window's rows times 255, so uint16_t ones do not wrap.
+  if (add != nullptr && sub != nullptr)
+    for (int x = 0; x < w; ++x)
+      out[x] = static_cast<T>(in[x] + add[x] - sub[x]);
+  else if (add != nullptr)
+    for (int x = 0; x < w; ++x)
+      out[x] = static_cast<T>(in[x] + add[x]);
+  else if (sub != nullptr)
+    for (int x = 0; x < w; ++x)
+      out[x] = static_cast<T>(in[x] - sub[x]);
+  else
+    std::copy(in, in + w, out);
+}
+
+template <class T>
+void prefixSumsT(const T* const* v, T* const* pre, int n, int w)
+{
+  int k = 0;
+#if defined(SL_X86)
+  for (; k + 4 <= n; k += 4)
+    prefix4(v + k, pre + k, w);
+#endif
+  for (; k < n; ++k)
+  {
+    pre[k][0] = 0;
+    for (int x = 0; x < w; ++x)
+      pre[k][x + 1] = static_cast<T>(pre[k][x] + v[k][x]);
+  }
+}
+
+template <class T>
+void thresholdRowT(const RowInput& in, const T* pre, Path path, uint64_t* bits, float* weight)
+{
+  const int w = in.w, r = in.r;
+  std::fill(bits, bits + ((w + 63) >> 6) + 1, uint64_t{ 0 });
+  // Interior: the window lies inside the row, one area for all (integer offset on that area).
+  const int lo = std::min(r, w), hi = std::max(lo, w - r - 1);
+  const int32_t area_in = in.rows * (2 * r + 1);
+  const int32_t offset_in = static_cast<int32_t>(in.offset * static_cast<float>(area_in) + 0.5f);
+  const Interior<T> k{
+    in.src, pre,   r, 1.0f / static_cast<float>(area_in), static_cast<float>(offset_in) / static_cast<float>(area_in),
+    bits,   weight
+  };
+  int x = lo;
+#if defined(SL_X86)
+  if (path == Path::Avx2)
+    x = interiorAvx2(k, x, hi);
+  if (path != Path::Portable)
+    x = interiorSse2(k, x, hi);
+#endif
+  interiorPortable(k, x, hi);
+  // The borders, where the image edge cuts the window: each pixel has its own area.
+  for (int b = 0; b < w; ++b)
+  {
+    if (b >= lo && b < hi)
+      b = hi;
+    if (b >= w)
+      break;
+    const int xa = std::max(0, b - r), xb = std::min(w, b + r + 1);
+    const int32_t area = in.rows * (xb - xa);
+    const int32_t off = static_cast<int32_t>(in.offset * static_cast<float>(area) + 0.5f);
+    const int32_t sum = windowSum(pre, xa, xb);
+    // Only the foreground's weights are used: the division is skipped for the others.
+    if (static_cast<int32_t>(in.src[b]) * area > sum + off)
+    {
+      bits[b >> 6] |= uint64_t{ 1 } << (b & 63);
+      weight[b] = weightOf(in.src[b], sum, b, w, r, in.rows);
+    }
+  }
+}
 }  // namespace
 
 bool supported(Path path)
@@ -148,76 +287,37 @@ Path fastestPath()
   return supported(Path::Sse2) ? Path::Sse2 : Path::Portable;
 }
 
-void slideColumnSums(const int32_t* __restrict in, const uint8_t* __restrict add, const uint8_t* __restrict sub, int w,
-                     int32_t* __restrict out)
+bool narrowSumsFit(int window)
 {
-  // One loop per case, each simple enough for the compiler to vectorise.
-  if (add != nullptr && sub != nullptr)
-    for (int x = 0; x < w; ++x)
-      out[x] = in[x] + static_cast<int32_t>(add[x]) - static_cast<int32_t>(sub[x]);
-  else if (add != nullptr)
-    for (int x = 0; x < w; ++x)
-      out[x] = in[x] + static_cast<int32_t>(add[x]);
-  else if (sub != nullptr)
-    for (int x = 0; x < w; ++x)
-      out[x] = in[x] - static_cast<int32_t>(sub[x]);
-  else
-    std::copy(in, in + w, out);
+  return window * window * 255 < 65536;
+}
+
+void slideColumnSums(const int32_t* in, const uint8_t* add, const uint8_t* sub, int w, int32_t* out)
+{
+  slideColumnSumsT(in, add, sub, w, out);
+}
+
+void slideColumnSums(const uint16_t* in, const uint8_t* add, const uint8_t* sub, int w, uint16_t* out)
+{
+  slideColumnSumsT(in, add, sub, w, out);
 }
 
 void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w)
 {
-  int k = 0;
-#if defined(SL_X86)
-  for (; k + 4 <= n; k += 4)
-    prefix4(v + k, pre + k, w);
-#endif
-  for (; k < n; ++k)
-  {
-    pre[k][0] = 0;
-    for (int x = 0; x < w; ++x)
-      pre[k][x + 1] = pre[k][x] + v[k][x];
-  }
+  prefixSumsT(v, pre, n, w);
+}
+
+void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w)
+{
+  prefixSumsT(v, pre, n, w);
 }
 
 void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight)
 {
-  const int w = in.w, r = in.r;
-  std::fill(bits, bits + ((w + 63) >> 6) + 1, uint64_t{ 0 });
-  // Interior: the window lies inside the row, one area for all (integer offset on that area).
-  const int lo = std::min(r, w), hi = std::max(lo, w - r - 1);
-  const int32_t area_in = in.rows * (2 * r + 1);
-  const int32_t offset_in = static_cast<int32_t>(in.offset * static_cast<float>(area_in) + 0.5f);
-  const Interior k{
-    in.src, in.pre, r, 1.0f / static_cast<float>(area_in), static_cast<float>(offset_in) / static_cast<float>(area_in),
-    bits,   weight
-  };
-  int x = lo;
-#if defined(SL_X86)
-  if (path == Path::Avx2)
-    x = interiorAvx2(k, x, hi);
-  if (path != Path::Portable)
-    x = interiorSse2(k, x, hi);
-#endif
-  interiorPortable(k, x, hi);
-  // The borders, where the image edge cuts the window: each pixel has its own area.
-  const int32_t* pre = in.pre;
-  for (int b = 0; b < w; ++b)
-  {
-    if (b >= lo && b < hi)
-      b = hi;
-    if (b >= w)
-      break;
-    const int xa = std::max(0, b - r), xb = std::min(w, b + r + 1);
-    const int32_t area = in.rows * (xb - xa);
-    const int32_t off = static_cast<int32_t>(in.offset * static_cast<float>(area) + 0.5f);
-    // Only the foreground's weights are used: the division is skipped for the others.
-    if (static_cast<int32_t>(in.src[b]) * area > pre[xb] - pre[xa] + off)
-    {
-      bits[b >> 6] |= uint64_t{ 1 } << (b & 63);
-      weight[b] = weightOf(in.src[b], pre[xb] - pre[xa], b, w, r, in.rows);
-    }
-  }
+  if (in.pre16 != nullptr)
+    thresholdRowT(in, in.pre16, path, bits, weight);
+  else
+    thresholdRowT(in, in.pre, path, bits, weight);
 }
 
 }  // namespace local_threshold

@@ -28,24 +28,33 @@ Path fastestPath();
 /// @brief True when this CPU can run @p path.
 bool supported(Path path);
 
+/// @brief True when the sums of a @p window x @p window window of 8-bit pixels fit in 16 bits:
+/// then column and prefix sums may be uint16_t, taken modulo 2^16 (twice the lanes per vector).
+bool narrowSumsFit(int window);
+
 /// @brief out[x] = in[x] + add[x] - sub[x] for x < w; @p add and @p sub may be null (nothing added
 /// or dropped). @p out must not alias @p in.
 void slideColumnSums(const int32_t* in, const uint8_t* add, const uint8_t* sub, int w, int32_t* out);
+/// @brief The same in uint16_t (when narrowSumsFit()).
+void slideColumnSums(const uint16_t* in, const uint8_t* add, const uint8_t* sub, int w, uint16_t* out);
 
 /// @brief For each of @p n rows k: pre[k][0] = 0 and pre[k][x + 1] = pre[k][x] + v[k][x].
 /// Rows are summed side by side: a prefix sum is one long dependency chain, and four independent
 /// chains run in the time of about one.
 void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w);
+/// @brief The same modulo 2^16: differences of two sums are exact window sums when narrowSumsFit().
+void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w);
 
 /// @brief One row of the local-mean threshold.
 struct RowInput
 {
-  const uint8_t* src = nullptr;  ///< the image row
-  const int32_t* pre = nullptr;  ///< prefix sums of the row's column sums (w + 1 values)
-  int w = 0;                     ///< row length, px
-  int r = 0;                     ///< half window, px
-  int rows = 0;                  ///< image rows inside the window (fewer at the top and bottom)
-  float offset = 0.f;            ///< grey levels above the local mean
+  const uint8_t* src = nullptr;     ///< the image row
+  const int32_t* pre = nullptr;     ///< prefix sums of the row's column sums (w + 1 values), or:
+  const uint16_t* pre16 = nullptr;  ///< the same modulo 2^16 (used when not null)
+  int w = 0;                        ///< row length, px
+  int r = 0;                        ///< half window, px
+  int rows = 0;                     ///< image rows inside the window (fewer at the top and bottom)
+  float offset = 0.f;               ///< grey levels above the local mean
 };
 
 /**

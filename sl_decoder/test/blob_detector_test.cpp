@@ -280,3 +280,43 @@ TEST(ShapeClassifier, Avx2ResamplingGivesIdenticalCorrelations)
   if (!avx2)
     GTEST_SKIP() << "this CPU has no AVX2: only the portable path ran";
 }
+
+// The labelling's centroid weighs each foreground pixel by its value minus the mean of its window
+// (the image's part of it): computed here with OpenCV's box filter, independently of the row pass
+// and of the window sums centroids() forms again. Blobs at the borders clip their windows.
+TEST(BlobDetector, CentroidsWeighPixelsByValueMinusTheirWindowsMean)
+{
+  cv::Mat image(100, 150, CV_8UC1, cv::Scalar(30));
+  const double xs[4] = { 4.5, 60.25, 100.0, 145.0 }, ys[4] = { 50.0, 3.5, 60.75, 95.5 };
+  for (int i = 0; i < 4; ++i)
+    drawBlob(image, xs[i], ys[i], 7, 11, 150);
+  DecoderConfig config;
+  config.threshold_window = 13;
+  BlobDetector detector(config);
+  std::vector<Blob> blobs;
+  detector.detect(image, blobs);
+  ASSERT_EQ(blobs.size(), 4u);
+  cv::Mat sums, area;
+  const cv::Size window(config.threshold_window, config.threshold_window);
+  cv::boxFilter(image, sums, CV_64F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::boxFilter(cv::Mat::ones(image.size(), CV_64F), area, CV_64F, window, cv::Point(-1, -1), false,
+                cv::BORDER_CONSTANT);
+  for (const Blob& b : blobs)
+  {
+    double sw = 0.0, swx = 0.0, swy = 0.0;
+    for (int y = b.y0; y < b.y1; ++y)
+      for (int x = b.x0; x < b.x1; ++x)
+      {
+        const double mean = sums.at<double>(y, x) / area.at<double>(y, x);
+        const double weight = image.at<uint8_t>(y, x) - mean;
+        if (weight <= config.threshold_offset)
+          continue;  // background
+        sw += weight;
+        swx += weight * x;
+        swy += weight * y;
+      }
+    ASSERT_GT(sw, 0.0);
+    EXPECT_NEAR(b.u, swx / sw, 1e-3) << "blob at " << b.x0 << ", " << b.y0;
+    EXPECT_NEAR(b.v, swy / sw, 1e-3) << "blob at " << b.x0 << ", " << b.y0;
+  }
+}

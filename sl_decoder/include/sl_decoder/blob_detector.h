@@ -136,8 +136,11 @@ private:
   // library's PLT cost more than the work.
   inline int find(int i);
   inline void unite(int a, int b);
-  /// Thresholds every row, extracts its runs (with their sums) and links them to the row above.
+  /// Thresholds every row, extracts its runs (with their peaks) and links them to the row above.
   void thresholdAndLink(const cv::Mat& image);
+  /// The same with column and prefix sums of type @p T (int32_t, or uint16_t modulo 2^16).
+  template <class T>
+  void thresholdAndLink(const cv::Mat& image, std::vector<T>& col_sums, std::vector<T>& prefix);
   /// Appends the runs of row @p y from the bit mask bits_.
   void extractRuns(int y, int w);
   /// Sets the peak weight (weight_) of the runs [begin, end).
@@ -183,11 +186,12 @@ private:
 
   DecoderConfig config_;
   Simd simd_;
-  static constexpr int kRowBlock = 4;  // rows whose prefix sums are formed side by side
-  std::vector<int32_t> col_sums_;      // column sums over the window rows: kRowBlock + 1 rows
-  std::vector<int32_t> prefix_;        // prefix sums of the column sums: kRowBlock rows
-  std::vector<uint64_t> bits_;         // foreground flags of the current row, one bit per pixel
-  std::vector<float> weight_;          // value minus local mean of the current row's pixels
+  static constexpr int kRowBlock = 4;            // rows whose prefix sums are formed side by side
+  std::vector<int32_t> col_sums_;                // column sums over the window rows: kRowBlock + 1 rows
+  std::vector<int32_t> prefix_;                  // prefix sums of the column sums: kRowBlock rows
+  std::vector<uint16_t> col_sums16_, prefix16_;  // the same modulo 2^16, for narrow windows
+  std::vector<uint64_t> bits_;                   // foreground flags of the current row, one bit per pixel
+  std::vector<float> weight_;                    // value minus local mean of the current row's pixels
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
   std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)
@@ -204,9 +208,9 @@ private:
   std::vector<float> top_, bottom_;              // outline of a saturated band per column, px
   // Splitting of oversized components (buffers reused).
   std::vector<Region> oversized_, pending_, parts_;
-  std::vector<Span> spans_;           // pixels of the regions above
+  std::vector<Span> spans_;                   // pixels of the regions above
   std::vector<int32_t> oversized_component_;  // per region of oversized_: its component
-  std::vector<int32_t> part_of_run_;  // per run: its region (oversized_ or parts_), or -1
+  std::vector<int32_t> part_of_run_;          // per run: its region (oversized_ or parts_), or -1
 };
 
 }  // namespace sl_decoder

@@ -1,0 +1,97 @@
+// The threshold's kernels (private to sl_decoder_core): 16-bit sums modulo 2^16 give the 32-bit
+// sums' masks and weights bit for bit, on every instruction set, up to the largest window they fit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "../src/local_threshold.h"
+
+using namespace sl_decoder::local_threshold;
+
+namespace
+{
+/// Mask and weights of row @p y of @p image with sums of type T (windows clipped to the image).
+template <class T>
+void thresholdOf(const cv::Mat& image, int y, int window, Path path, std::vector<uint64_t>& bits,
+                 std::vector<float>& weight)
+{
+  const int w = image.cols, h = image.rows, r = window / 2;
+  std::vector<T> zero(static_cast<size_t>(w), 0), cols(static_cast<size_t>(w)), next(static_cast<size_t>(w));
+  cols = zero;
+  for (int yy = std::max(0, y - r); yy < std::min(h, y + r + 1); ++yy)
+  {
+    slideColumnSums(cols.data(), image.ptr<uint8_t>(yy), nullptr, w, next.data());
+    cols.swap(next);
+  }
+  // prefixSums() forms four rows side by side: the same row four times, checked alike.
+  std::vector<T> pre(4 * static_cast<size_t>(w + 1));
+  const T* v[4] = { cols.data(), cols.data(), cols.data(), cols.data() };
+  T* p[4];
+  for (int k = 0; k < 4; ++k)
+    p[k] = pre.data() + static_cast<size_t>(k) * (w + 1);
+  prefixSums(v, p, 4, w);
+  for (int k = 1; k < 4; ++k)
+    ASSERT_EQ(0, std::memcmp(p[0], p[k], sizeof(T) * static_cast<size_t>(w + 1)));
+  RowInput in;
+  in.src = image.ptr<uint8_t>(y);
+  if constexpr (sizeof(T) == 2)
+    in.pre16 = reinterpret_cast<const uint16_t*>(p[0]);
+  else
+    in.pre = reinterpret_cast<const int32_t*>(p[0]);
+  in.w = w;
+  in.r = r;
+  in.rows = std::min(h, y + r + 1) - std::max(0, y - r);
+  in.offset = 2.5f;
+  bits.assign(static_cast<size_t>((w + 63) / 64 + 1), 0);
+  weight.assign(static_cast<size_t>(w), 0.f);
+  thresholdRow(in, path, bits.data(), weight.data());
+}
+}  // namespace
+
+TEST(LocalThreshold, NarrowSumsFitUpToAWindowOf15)
+{
+  EXPECT_TRUE(narrowSumsFit(3));
+  EXPECT_TRUE(narrowSumsFit(15));
+  EXPECT_FALSE(narrowSumsFit(17));
+}
+
+TEST(LocalThreshold, SixteenBitSumsGiveTheThirtyTwoBitMasksAndWeights)
+{
+  cv::RNG rng(31);
+  int compared = 0, foreground = 0;
+  for (int trial = 0; trial < 40; ++trial)
+  {
+    const int w = rng.uniform(1, 300), h = rng.uniform(1, 40);
+    cv::Mat image(h, w, CV_8UC1);
+    if (trial % 4 == 0)
+      image.setTo(255);  // the largest sums a window can have
+    else
+      rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+    const int window = 2 * rng.uniform(1, 8) + 1;  // 3 .. 15
+    ASSERT_TRUE(narrowSumsFit(window));
+    for (Path path : { Path::Portable, Path::Sse2, Path::Avx2 })
+    {
+      if (!supported(path))
+        continue;
+      const int y = rng.uniform(0, h);
+      std::vector<uint64_t> bits32, bits16;
+      std::vector<float> weight32, weight16;
+      thresholdOf<int32_t>(image, y, window, path, bits32, weight32);
+      thresholdOf<uint16_t>(image, y, window, path, bits16, weight16);
+      ASSERT_EQ(bits32, bits16) << "trial " << trial;
+      for (int x = 0; x < w; ++x)
+        if ((bits32[static_cast<size_t>(x >> 6)] >> (x & 63)) & 1)
+        {
+          ASSERT_EQ(0, std::memcmp(&weight32[static_cast<size_t>(x)], &weight16[static_cast<size_t>(x)], sizeof(float)))
+              << "trial " << trial << " x " << x;
+          ++foreground;
+        }
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 80);
+  EXPECT_GT(foreground, 1000);
+}

@@ -22,6 +22,32 @@ void setPrefix(local_threshold::RowInput& row, const uint16_t* pre)
 {
   row.pre16 = pre;
 }
+
+/// The largest of the weights w[x0, x1) and 0 (w readable up to x1 + 3). The maximum is exact in
+/// any order: 4 at a time gives the same peak as one at a time.
+inline float peakOf(const float* w, int x0, int x1)
+{
+#if defined(__SSE2__)
+  __m128 m = _mm_setzero_ps();
+  int x = x0;
+  for (; x + 4 <= x1; x += 4)
+    m = _mm_max_ps(m, _mm_loadu_ps(w + x));
+  if (x < x1)  // the last 1-3 pixels: lanes past the run count as 0
+  {
+    const __m128i lane = _mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3));
+    const __m128 inside = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(x1)));
+    m = _mm_max_ps(m, _mm_and_ps(_mm_loadu_ps(w + x), inside));
+  }
+  m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+  m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+  return _mm_cvtss_f32(m);
+#else
+  float peak = 0.f;
+  for (int x = x0; x < x1; ++x)
+    peak = std::max(peak, w[x]);
+  return peak;
+#endif
+}
 }  // namespace
 
 BlobDetector::BlobDetector(const DecoderConfig& config)
@@ -53,13 +79,18 @@ inline int BlobDetector::find(int i)
 void BlobDetector::linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end)
 {
   // Two-pointer sweep: [a, b) and [c, d) are 8-connected when a <= d and c <= b.
+  // A current run is still its own root when it meets its first run above: it joins that run's
+  // root directly, which is older (the same as unite(), one find() less).
   int p = prev_begin;
   for (int c = cur_begin; c < cur_end; ++c)
   {
-    const Run& cr = runs_[static_cast<size_t>(c)];
+    Run& cr = runs_[static_cast<size_t>(c)];
     while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
       ++p;
-    for (int q = p; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
+    int q = p;
+    if (q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1)
+      cr.parent = find(q++);
+    for (; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
       unite(c, q);
   }
 }
@@ -96,7 +127,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
   col_sums.assign((kRowBlock + 1) * ws, 0);
   prefix.resize(kRowBlock * (ws + 1));
   bits_.resize(static_cast<size_t>((w + 63) >> 6) + 1);
-  weight_.resize(ws + 4);  // setPeaks() reads 4 at a time
+  weight_.resize(ws + 4);  // peakOf() reads 4 at a time
   // The rows above the first window's centre (slot 1 is scratch here).
   for (int y = 0; y < std::min(h, r); ++y)
   {
@@ -137,7 +168,6 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
       const int cur_begin = static_cast<int>(runs_.size());
       extractRuns(y, w);
       const int cur_end = static_cast<int>(runs_.size());
-      setPeaks(cur_begin, cur_end);
       linkRows(prev_begin, prev_end, cur_begin, cur_end);
       prev_begin = cur_begin;
       prev_end = cur_end;
@@ -181,38 +211,9 @@ void BlobDetector::extractRuns(int y, int w)
     run.x0 = x0;
     run.x1 = x1;
     run.parent = static_cast<int32_t>(runs_.size() - 1);
-  }
-}
-
-void BlobDetector::setPeaks(int begin, int end)
-{
-  // The weights themselves are not kept: most blobs get the classifier's centroid, and
-  // centroids() forms the few others' again.
-  // The maximum is exact in any order: 4 at a time gives the same peak as one at a time.
-  const float* w = weight_.data();
-  for (int i = begin; i < end; ++i)
-  {
-    Run& run = runs_[static_cast<size_t>(i)];
-#if defined(__SSE2__)
-    __m128 m = _mm_setzero_ps();
-    int x = run.x0;
-    for (; x + 4 <= run.x1; x += 4)
-      m = _mm_max_ps(m, _mm_loadu_ps(w + x));
-    if (x < run.x1)  // the last 1-3 pixels: lanes past the run count as 0 (weights of its pixels are > 0)
-    {
-      const __m128i lane = _mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3));
-      const __m128 inside = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(run.x1)));
-      m = _mm_max_ps(m, _mm_and_ps(_mm_loadu_ps(w + x), inside));
-    }
-    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
-    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
-    run.peak = _mm_cvtss_f32(m);
-#else
-    float peak = 0.f;
-    for (int x = run.x0; x < run.x1; ++x)
-      peak = std::max(peak, w[x]);
-    run.peak = peak;
-#endif
+    // Only each run's peak weight is kept: most blobs get the classifier's centroid, and
+    // centroids() forms the weights of the few others again.
+    run.peak = peakOf(weight_.data(), x0, x1);
   }
 }
 

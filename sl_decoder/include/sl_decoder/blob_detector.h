@@ -141,10 +141,8 @@ private:
   /// The same with column and prefix sums of type @p T (int32_t, or uint16_t modulo 2^16).
   template <class T>
   void thresholdAndLink(const cv::Mat& image, std::vector<T>& col_sums, std::vector<T>& prefix);
-  /// Appends the runs of row @p y from the bit mask bits_.
+  /// Appends the runs of row @p y from the bit mask bits_, with their peak weight (weight_).
   void extractRuns(int y, int w);
-  /// Sets the peak weight (weight_) of the runs [begin, end).
-  void setPeaks(int begin, int end);
   /// An integral image in box_sums_: its first column and row in the image, and its row stride.
   struct Integral
   {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -64,6 +65,14 @@ inline void foldFour(const float r[6][4], float sums[6])
 {
   for (int q = 0; q < 6; ++q)
     sums[q] = q < 4 ? r[q][0] + ((r[q][1] + r[q][2]) + r[q][3]) : r[q][0] + ((r[q][1] + r[q][3]) + r[q][2]);
+}
+
+/// The first of @p count grid positions across [lo - 0.5, hi - 0.5] (a box edge to edge) and their
+/// spacing.
+inline std::pair<float, float> gridAxis(int lo, int hi, int count)
+{
+  const float s = static_cast<float>(hi - lo) / static_cast<float>(count);
+  return { static_cast<float>(lo) - 0.5f + 0.5f * s, s };
 }
 
 /// Source pixel and weight of each of @p count grid positions o + i * s, clamped to [0, imax].
@@ -224,36 +233,15 @@ bool ShapeClassifier::useAvx2(bool on)
 
 void ShapeClassifier::placeGrid(const cv::Mat& image, const Blob& blob)
 {
-  // Sample the box edge to edge: the shape spans [x0 - 0.5, x1 - 0.5] in pixel coordinates.
-  const float sx = static_cast<float>(blob.width()) / static_cast<float>(tw_);
-  const float sy = static_cast<float>(blob.height()) / static_cast<float>(th_);
-  const float ox = static_cast<float>(blob.x0) - 0.5f + 0.5f * sx;
-  const float oy = static_cast<float>(blob.y0) - 0.5f + 0.5f * sy;
-#if defined(__x86_64__)
-  if (avx2_)
-  {
-    placeAxisAvx2(ox, sx, image.cols - 1, tw_, ix_.data(), ax_.data());
-    placeAxisAvx2(oy, sy, image.rows - 1, th_, iy_.data(), ay_.data());
-    return;
-  }
-#endif
-  placeAxis(ox, sx, image.cols - 1, tw_, ix_.data(), ax_.data());
-  placeAxis(oy, sy, image.rows - 1, th_, iy_.data(), ay_.data());
+  const std::pair<float, float> x = gridAxis(blob.x0, blob.x1, tw_), y = gridAxis(blob.y0, blob.y1, th_);
+  placeAxis(x.first, x.second, image.cols - 1, tw_, ix_.data(), ax_.data());
+  placeAxis(y.first, y.second, image.rows - 1, th_, iy_.data(), ay_.data());
 }
 
 void ShapeClassifier::sampleGrid(const cv::Mat& image)
 {
   const int x_step = image.cols > 1 ? 1 : 0;
   const size_t row_step = image.rows > 1 ? image.step[0] : 0;
-#if defined(__x86_64__)
-  // The AVX2 path reads 16 bytes from the first source column of each grid row.
-  if (avx2_ && tw_ == 8 && x_step == 1 && ix_[7] + 1 - ix_[0] < 16 && ix_[0] + 16 <= image.cols)
-  {
-    sampleGrid8Avx2(image.data, image.step[0], row_step, ix_.data(), ax_.data(), iy_.data(), ay_.data(), th_,
-                    samples_.data());
-    return;
-  }
-#endif
   float* out = samples_.data();
   for (int j = 0; j < th_; ++j)
   {
@@ -273,15 +261,6 @@ void ShapeClassifier::sampleGrid(const cv::Mat& image)
 
 void ShapeClassifier::sumSamples(float sums[6]) const
 {
-#if defined(__x86_64__)
-  if (avx2_ && tw_ == 8)
-  {
-    float r[6][4];
-    sumRows8Avx2(samples_.data(), th_, rows_.data(), r);
-    foldFour(r, sums);
-    return;
-  }
-#endif
   // Templates are zero-mean, so sum(s * t) needs no mean removal (see decide()).
   const size_t n = samples_.size(), chunks_end = n / 16 * 16, groups_end = n / 4 * 4;
   const float* s = samples_.data();
@@ -336,12 +315,38 @@ void ShapeClassifier::decide(const float sums[6], Blob& blob) const
     blob.shape = best_shape;
 }
 
+#if defined(__x86_64__)
+__attribute__((target("avx2"))) void ShapeClassifier::sumGrid8Avx2(const cv::Mat& image, const Blob& blob,
+                                                                   float sums[6])
+{
+  const std::pair<float, float> x = gridAxis(blob.x0, blob.x1, 8), y = gridAxis(blob.y0, blob.y1, th_);
+  placeAxisAvx2(x.first, x.second, image.cols - 1, 8, ix_.data(), ax_.data());
+  placeAxisAvx2(y.first, y.second, image.rows - 1, th_, iy_.data(), ay_.data());
+  // The AVX2 resampling reads 16 bytes from the first source column of each grid row.
+  if (image.cols > 1 && ix_[7] + 1 - ix_[0] < 16 && ix_[0] + 16 <= image.cols)
+    sampleGrid8Avx2(image.data, image.step[0], image.rows > 1 ? image.step[0] : 0, ix_.data(), ax_.data(), iy_.data(),
+                    ay_.data(), th_, samples_.data());
+  else
+    sampleGrid(image);
+  float r[6][4];
+  sumRows8Avx2(samples_.data(), th_, rows_.data(), r);
+  foldFour(r, sums);
+}
+#endif
+
 void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
 {
-  placeGrid(image, blob);
-  sampleGrid(image);
   float sums[6];
-  sumSamples(sums);
+#if defined(__x86_64__)
+  if (avx2_ && tw_ == 8)
+    sumGrid8Avx2(image, blob, sums);
+  else
+#endif
+  {
+    placeGrid(image, blob);
+    sampleGrid(image);
+    sumSamples(sums);
+  }
   decide(sums, blob);
 }
 
@@ -351,22 +356,25 @@ namespace sl_decoder
 {
 namespace
 {
-/// The dark level around a box: the mean of its rim, rounded. (An integer sum: the first version's
-/// float sum of the same integers was exact, for rims of less than 65793 px.)
-int rimLevel(const cv::Mat& image, int x0, int x1, int y0, int y1)
+/// The sum of a box's rim: its top and bottom rows, and the first and last pixels of the rows
+/// between. (An integer sum: the first version's float sum of the same integers was exact, for rims
+/// of less than 65793 px.)
+int rimSum(const uint8_t* origin, size_t step, int bw, int bh)
 {
-  const uint8_t* top = image.ptr<uint8_t>(y0);
-  const uint8_t* bottom = image.ptr<uint8_t>(y1 - 1);
+  const uint8_t* bottom = origin + static_cast<size_t>(bh - 1) * step;
   int sum = 0;
-  for (int x = x0; x < x1; ++x)
-    sum += top[x] + bottom[x];
-  for (int y = y0 + 1; y < y1 - 1; ++y)
-  {
-    const uint8_t* row = image.ptr<uint8_t>(y);
-    sum += row[x0] + row[x1 - 1];
-  }
-  const int n = 2 * (x1 - x0) + 2 * (y1 - y0 - 2);
-  return static_cast<int>(static_cast<float>(sum) / static_cast<float>(n) + 0.5f);
+  for (int x = 0; x < bw; ++x)
+    sum += origin[x] + bottom[x];
+  for (const uint8_t* row = origin + step; row < bottom; row += step)
+    sum += row[0] + row[bw - 1];
+  return sum;
+}
+
+/// The dark level around a box: the mean of its rim (@p rim_sum), rounded.
+int darkLevel(int rim_sum, int bw, int bh)
+{
+  const int n = 2 * bw + 2 * (bh - 2);
+  return std::min(255, std::max(0, static_cast<int>(static_cast<float>(rim_sum) / static_cast<float>(n) + 0.5f)));
 }
 
 #if defined(__x86_64__)
@@ -465,25 +473,32 @@ void ShapeClassifier::refineCentroid(const cv::Mat& image, Blob& blob, int margi
   const int y0 = std::max(0, blob.y0 - margin), y1 = std::min(image.rows, blob.y1 + margin);
   if (x1 - x0 < 3 || y1 - y0 < 3)
     return;
-  // Dark level: the mean of the rim of the grown box (the gaps around the primitive).
-  const int dark = std::min(255, std::max(0, rimLevel(image, x0, x1, y0, y1)));
-  // Integer sums (exact, so every path gives the same): weight = max(0, value - dark), columns and
-  // rows counted from the box's corner.
+  // Dark level: the mean of the rim of the grown box (the gaps around the primitive). Integer sums
+  // (exact, so every path gives the same): weight = max(0, value - dark), columns and rows counted
+  // from the box's corner.
   const int bw = x1 - x0, bh = y1 - y0;
   const uint8_t* origin = image.ptr<uint8_t>(y0) + x0;
   const size_t step = image.step[0];
-  int64_t sums[3];
+  const int dark = darkLevel(rimSum(origin, step, bw, bh), bw, bh);
+  // The vector sums read whole groups of columns (in the image); box sizes keep their lanes in int32.
   const bool small = bw < 128 && bh <= 512;
+  int64_t sums[3];
+  bool summed = false;
 #if defined(__x86_64__)
   if (avx2_ && small && x0 + (bw + 15) / 16 * 16 <= image.cols)
+  {
     lightSumsAvx2(origin, step, bw, bh, dark, sums);
-  else
+    summed = true;
+  }
 #endif
 #if defined(__SSE2__)
-      if (small && x0 + (bw + 7) / 8 * 8 <= image.cols)
+  if (!summed && small && x0 + (bw + 7) / 8 * 8 <= image.cols)
+  {
     lightSumsSse2(origin, step, bw, bh, dark, sums);
-  else
+    summed = true;
+  }
 #endif
+  if (!summed)
     lightSums(origin, step, bw, bh, dark, sums);
   if (sums[0] > 0)
   {

@@ -19,8 +19,8 @@ namespace sl_decoder
  *
  * The templates are the shapes' area coverage of the grid, blurred a little, normalised to zero
  * mean and unit norm once, so each blob costs one bilinear resampling and four dot products.
- * Every sum runs in one fixed order (sixteen lanes, see the .cpp), on every path, so the
- * correlations are the same bits on every machine.
+ * Every sum runs in one fixed order (sixteen lanes, see the .cpp) on every path, so the
+ * correlations are the same bits with and without AVX2 (and from version to version).
  */
 class ShapeClassifier
 {

@@ -380,7 +380,7 @@ int darkLevel(int rim_sum, int bw, int bh)
 #if defined(__x86_64__)
 /// The light sums of refineCentroid() over a box of @p bw x @p bh px from @p origin, sixteen
 /// columns at a time: sum w, sum w (x - x0), sum w (y - y0) with w = max(0, value - dark). The
-/// 16 bytes from each row's last group must be in the image; bw < 128 and bh <= 512 keep every lane
+/// 16 bytes from each row's last group must be in the image; bw < 128 and bh <= 256 keep the sums
 /// within int32.
 __attribute__((target("avx2"))) void lightSumsAvx2(const uint8_t* origin, size_t step, int bw, int bh, int dark,
                                                    int64_t sums[3])
@@ -404,14 +404,12 @@ __attribute__((target("avx2"))) void lightSumsAvx2(const uint8_t* origin, size_t
       acc[2] = _mm256_add_epi32(acc[2], _mm256_madd_epi16(w, dy));
     }
   }
-  for (int k = 0; k < 3; ++k)
-  {
-    alignas(32) int32_t lanes[8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), acc[k]);
-    sums[k] = 0;
-    for (int32_t l : lanes)
-      sums[k] += l;
-  }
+  // Lane sums: [0..3] of acc[0], acc[1], acc[2], acc[2] in the low half, [4..7] in the high.
+  const __m256i pairs = _mm256_hadd_epi32(_mm256_hadd_epi32(acc[0], acc[1]), _mm256_hadd_epi32(acc[2], acc[2]));
+  const __m128i total = _mm_add_epi32(_mm256_castsi256_si128(pairs), _mm256_extracti128_si256(pairs, 1));
+  sums[0] = _mm_cvtsi128_si32(total);
+  sums[1] = _mm_extract_epi32(total, 1);
+  sums[2] = _mm_extract_epi32(total, 2);
 }
 #endif
 
@@ -481,7 +479,7 @@ void ShapeClassifier::refineCentroid(const cv::Mat& image, Blob& blob, int margi
   const size_t step = image.step[0];
   const int dark = darkLevel(rimSum(origin, step, bw, bh), bw, bh);
   // The vector sums read whole groups of columns (in the image); box sizes keep their lanes in int32.
-  const bool small = bw < 128 && bh <= 512;
+  const bool small = bw < 128 && bh <= 256;
   int64_t sums[3];
   bool summed = false;
 #if defined(__x86_64__)

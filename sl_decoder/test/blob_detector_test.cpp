@@ -302,6 +302,30 @@ TEST(ShapeClassifier, Avx2PathsGiveIdenticalCorrelationsAndCentroids)
     GTEST_SKIP() << "this CPU has no AVX2: only the portable path ran";
 }
 
+// The vector light sums take boxes up to 127 x 256 px: at full light within a black rim, their sums
+// are at their largest (int32 lanes), and the scalar sums take over beyond.
+TEST(ShapeClassifier, LargestBoxesGiveIdenticalCentroids)
+{
+  ShapeClassifier classifier;
+  for (const cv::Size& size : { cv::Size(127, 256), cv::Size(126, 255), cv::Size(128, 256), cv::Size(127, 257) })
+  {
+    cv::Mat image(300, 160, CV_8UC1, cv::Scalar(0));
+    image(cv::Rect(1, 1, size.width - 2, size.height - 2)).setTo(255);
+    Blob box;
+    box.x1 = size.width;
+    box.y1 = size.height;
+    Blob vector = box, portable = box;
+    classifier.useAvx2(true);
+    classifier.refineCentroid(image, vector, 0);
+    classifier.useAvx2(false);
+    classifier.refineCentroid(image, portable, 0);
+    EXPECT_EQ(std::memcmp(&vector.u, &portable.u, sizeof(float)), 0) << size;
+    EXPECT_EQ(std::memcmp(&vector.v, &portable.v, sizeof(float)), 0) << size;
+    EXPECT_FLOAT_EQ(portable.u, (size.width - 1) / 2.f) << size;
+    EXPECT_FLOAT_EQ(portable.v, (size.height - 1) / 2.f) << size;
+  }
+}
+
 #if defined(__x86_64__)
 // The correlations and refined centroids of fixed boxes, bit for bit as the classifier has always
 // given them (decodes are compared bit for bit across versions). The sums' order decides the last

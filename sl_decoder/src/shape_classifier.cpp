@@ -284,7 +284,7 @@ void ShapeClassifier::sumSamples(float sums[6]) const
   foldFour(r, sums);
 }
 
-void ShapeClassifier::decide(const float sums[6], Blob& blob) const
+inline void ShapeClassifier::decide(const float sums[6], Blob& blob) const
 {
   // The norm of s - mean is sqrt(sum s^2 - n mean^2).
   const float n = static_cast<float>(tw_ * th_);
@@ -316,9 +316,9 @@ void ShapeClassifier::decide(const float sums[6], Blob& blob) const
 }
 
 #if defined(__x86_64__)
-__attribute__((target("avx2"))) void ShapeClassifier::sumGrid8Avx2(const cv::Mat& image, const Blob& blob,
-                                                                   float sums[6])
+__attribute__((target("avx2"))) void ShapeClassifier::classify8Avx2(const cv::Mat& image, Blob& blob)
 {
+  float sums[6];
   const std::pair<float, float> x = gridAxis(blob.x0, blob.x1, 8), y = gridAxis(blob.y0, blob.y1, th_);
   placeAxisAvx2(x.first, x.second, image.cols - 1, 8, ix_.data(), ax_.data());
   placeAxisAvx2(y.first, y.second, image.rows - 1, th_, iy_.data(), ay_.data());
@@ -331,22 +331,23 @@ __attribute__((target("avx2"))) void ShapeClassifier::sumGrid8Avx2(const cv::Mat
   float r[6][4];
   sumRows8Avx2(samples_.data(), th_, rows_.data(), r);
   foldFour(r, sums);
+  decide(sums, blob);
 }
 #endif
 
 void ShapeClassifier::classify(const cv::Mat& image, Blob& blob)
 {
-  float sums[6];
 #if defined(__x86_64__)
   if (avx2_ && tw_ == 8)
-    sumGrid8Avx2(image, blob, sums);
-  else
-#endif
   {
-    placeGrid(image, blob);
-    sampleGrid(image);
-    sumSamples(sums);
+    classify8Avx2(image, blob);
+    return;
   }
+#endif
+  placeGrid(image, blob);
+  sampleGrid(image);
+  float sums[6];
+  sumSamples(sums);
   decide(sums, blob);
 }
 

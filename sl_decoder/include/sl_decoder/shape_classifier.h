@@ -61,8 +61,8 @@ private:
   void sampleGrid(const cv::Mat& image);
   /// The sums of samples_ (sum, sum of squares, the four dot products) in the fixed order.
   void sumSamples(float sums[6]) const;
-  /// placeGrid(), sampleGrid() and sumSamples() with AVX2, for a grid 8 samples wide.
-  void sumGrid8Avx2(const cv::Mat& image, const Blob& blob, float sums[6]);
+  /// classify() with AVX2, for a grid 8 samples wide.
+  void classify8Avx2(const cv::Mat& image, Blob& blob);
   /// Correlations from the sums; sets blob.shape, blob.correlation, blob.margin.
   void decide(const float sums[6], Blob& blob) const;
 

@@ -135,14 +135,13 @@ __attribute__((target("avx2"))) void sampleGrid8Avx2(const uint8_t* data, size_t
                                                      const float* ax, const int* iy, const float* ay, int rows,
                                                      float* out)
 {
-  alignas(16) int8_t left[16], right[16];
-  for (int i = 0; i < 16; ++i)
-  {
-    left[i] = static_cast<int8_t>(i < 8 ? ix[i] - ix[0] : -1);  // -1: the shuffle gives 0
-    right[i] = static_cast<int8_t>(i < 8 ? ix[i] + 1 - ix[0] : -1);
-  }
-  const __m128i pick_left = _mm_load_si128(reinterpret_cast<const __m128i*>(left));
-  const __m128i pick_right = _mm_load_si128(reinterpret_cast<const __m128i*>(right));
+  // Byte shuffles: bytes ix[i] - ix[0] (left) and one more (right) for i < 8, -1 (gives 0) after.
+  const __m256i from_first =
+      _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix)), _mm256_set1_epi32(ix[0]));
+  const __m128i left16 = _mm_packs_epi32(_mm256_castsi256_si128(from_first), _mm256_extracti128_si256(from_first, 1));
+  const __m128i none = _mm_set1_epi16(-1);
+  const __m128i pick_left = _mm_packs_epi16(left16, none);
+  const __m128i pick_right = _mm_packs_epi16(_mm_add_epi16(left16, _mm_set1_epi16(1)), none);
   const __m256 wx = _mm256_loadu_ps(ax);
   const uint8_t* origin = data + ix[0];
   auto load = [](const uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); };

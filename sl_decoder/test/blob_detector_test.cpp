@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 
 #include <opencv2/imgproc.hpp>
 
 #include "sl_decoder/blob_detector.h"
 #include "sl_decoder/shape_classifier.h"
+#include "sl_projector/primitives.h"
 
 using namespace sl_decoder;
 
@@ -245,38 +247,57 @@ TEST(BlobDetector, DeferredCentroidsAreTheCentroidsDetectGives)
   EXPECT_GT(checked, 100);
 }
 
-TEST(ShapeClassifier, Avx2ResamplingGivesIdenticalCorrelations)
+TEST(ShapeClassifier, Avx2PathsGiveIdenticalCorrelationsAndCentroids)
 {
   // Boxes of every size a primitive takes (and some it does not), anywhere in images of varied
-  // widths, up against every border: the AVX2 and the portable resampling agree bit for bit.
+  // widths, up against every border, for grids with an even and an odd number of rows (the AVX2
+  // path sums rows in pairs) and one the AVX2 resampling does not take: the AVX2 and the portable
+  // paths agree bit for bit. So do the refined centroids (AVX2, SSE2 and scalar sums).
   cv::RNG rng(20261204);
-  ShapeClassifier classifier;
-  const bool avx2 = classifier.useAvx2(true);
-  int compared = 0;
-  for (int trial = 0; trial < 40; ++trial)
+  const int grids[][2] = { { 8, 14 }, { 8, 13 }, { 8, 3 }, { 7, 14 } };
+  bool avx2 = false;
+  int compared = 0, refined = 0;
+  for (const auto& grid : grids)
   {
-    const int w = rng.uniform(2, 200), h = rng.uniform(2, 80);
-    const cv::Mat image = randomScene(rng, w, h);
-    for (int k = 0; k < 50; ++k)
+    DecoderConfig config;
+    config.template_width = grid[0];
+    config.template_height = grid[1];
+    ShapeClassifier classifier(config);
+    avx2 = classifier.useAvx2(true);
+    for (int trial = 0; trial < 40; ++trial)
     {
-      Blob box;
-      box.x0 = rng.uniform(0, w);
-      box.y0 = rng.uniform(0, h);
-      box.x1 = std::min(w, box.x0 + rng.uniform(1, 18));
-      box.y1 = std::min(h, box.y0 + rng.uniform(1, 24));
-      Blob vector = box, portable = box;
-      classifier.useAvx2(true);
-      classifier.classify(image, vector);
-      classifier.useAvx2(false);
-      classifier.classify(image, portable);
-      ASSERT_EQ(std::memcmp(&vector.correlation, &portable.correlation, sizeof(float)), 0)
-          << "trial " << trial << " box " << box.x0 << ".." << box.x1 << " x " << box.y0 << ".." << box.y1;
-      ASSERT_EQ(std::memcmp(&vector.margin, &portable.margin, sizeof(float)), 0) << "trial " << trial;
-      ASSERT_EQ(vector.shape, portable.shape) << "trial " << trial;
-      compared += portable.correlation != 0.f ? 1 : 0;
+      const int w = rng.uniform(2, 200), h = rng.uniform(2, 80);
+      const cv::Mat image = randomScene(rng, w, h);
+      for (int k = 0; k < 50; ++k)
+      {
+        Blob box;
+        box.x0 = rng.uniform(0, w);
+        box.y0 = rng.uniform(0, h);
+        box.x1 = std::min(w, box.x0 + rng.uniform(1, k % 10 == 0 ? 140 : 18));
+        box.y1 = std::min(h, box.y0 + rng.uniform(1, 24));
+        Blob vector = box, portable = box;
+        classifier.useAvx2(true);
+        classifier.classify(image, vector);
+        classifier.refineCentroid(image, vector, k % 4);
+        classifier.useAvx2(false);
+        classifier.classify(image, portable);
+        classifier.refineCentroid(image, portable, k % 4);
+        const std::string where = "grid " + std::to_string(grid[0]) + " x " + std::to_string(grid[1]) + ", trial " +
+                                  std::to_string(trial) + ", box " + std::to_string(box.x0) + ".." +
+                                  std::to_string(box.x1) + " x " + std::to_string(box.y0) + ".." +
+                                  std::to_string(box.y1);
+        ASSERT_EQ(std::memcmp(&vector.correlation, &portable.correlation, sizeof(float)), 0) << where;
+        ASSERT_EQ(std::memcmp(&vector.margin, &portable.margin, sizeof(float)), 0) << where;
+        ASSERT_EQ(vector.shape, portable.shape) << where;
+        ASSERT_EQ(std::memcmp(&vector.u, &portable.u, sizeof(float)), 0) << where;
+        ASSERT_EQ(std::memcmp(&vector.v, &portable.v, sizeof(float)), 0) << where;
+        compared += portable.correlation != 0.f ? 1 : 0;
+        refined += portable.u != box.u ? 1 : 0;
+      }
     }
   }
-  EXPECT_GT(compared, 1000) << "most boxes hold some contrast";
+  EXPECT_GT(compared, 4000) << "most boxes hold some contrast";
+  EXPECT_GT(refined, 4000) << "most boxes hold some light";
   if (!avx2)
     GTEST_SKIP() << "this CPU has no AVX2: only the portable path ran";
 }
@@ -320,3 +341,100 @@ TEST(BlobDetector, CentroidsWeighPixelsByValueMinusTheirWindowsMean)
     EXPECT_NEAR(b.v, swy / sw, 1e-3) << "blob at " << b.x0 << ", " << b.y0;
   }
 }
+
+// The vector light sums take boxes up to 127 x 256 px: at full light within a black rim, their sums
+// are at their largest (int32 lanes), and the scalar sums take over beyond.
+TEST(ShapeClassifier, LargestBoxesGiveIdenticalCentroids)
+{
+  ShapeClassifier classifier;
+  for (const cv::Size& size : { cv::Size(127, 256), cv::Size(126, 255), cv::Size(128, 256), cv::Size(127, 257) })
+  {
+    cv::Mat image(300, 160, CV_8UC1, cv::Scalar(0));
+    image(cv::Rect(1, 1, size.width - 2, size.height - 2)).setTo(255);
+    Blob box;
+    box.x1 = size.width;
+    box.y1 = size.height;
+    Blob vector = box, portable = box;
+    classifier.useAvx2(true);
+    classifier.refineCentroid(image, vector, 0);
+    classifier.useAvx2(false);
+    classifier.refineCentroid(image, portable, 0);
+    EXPECT_EQ(std::memcmp(&vector.u, &portable.u, sizeof(float)), 0) << size;
+    EXPECT_EQ(std::memcmp(&vector.v, &portable.v, sizeof(float)), 0) << size;
+    EXPECT_FLOAT_EQ(portable.u, (size.width - 1) / 2.f) << size;
+    EXPECT_FLOAT_EQ(portable.v, (size.height - 1) / 2.f) << size;
+  }
+}
+
+#if defined(__x86_64__)
+// The correlations and refined centroids of fixed boxes, bit for bit as the classifier has always
+// given them (decodes are compared bit for bit across versions). The sums' order decides the last
+// bits: a change of it, or a compiler allowed to reorder float sums, fails here. (x86-64 only:
+// compilers elsewhere may fuse multiply-adds.)
+TEST(ShapeClassifier, CorrelationsKeepTheirBits)
+{
+  cv::Mat image(40, 64, CV_8UC1);
+  for (int v = 0; v < image.rows; ++v)
+    for (int u = 0; u < image.cols; ++u)
+      image.at<uint8_t>(v, u) = static_cast<uint8_t>(20 + (u * 7 + v * 13) % 9);
+  cv::rectangle(image, cv::Rect(5, 4, 6, 11), cv::Scalar(200), cv::FILLED);
+  cv::rectangle(image, cv::Rect(7, 8, 2, 3), cv::Scalar(60), cv::FILLED);
+  cv::rectangle(image, cv::Rect(20, 20, 8, 12), cv::Scalar(150), cv::FILLED);
+  cv::rectangle(image, cv::Rect(20, 20, 4, 6), cv::Scalar(90), cv::FILLED);
+  cv::rectangle(image, cv::Rect(56, 10, 8, 14), cv::Scalar(230), cv::FILLED);
+  cv::rectangle(image, cv::Rect(60, 16, 4, 8), cv::Scalar(40), cv::FILLED);
+  for (int s = 1; s <= 4; ++s)
+  {
+    cv::Mat roi = image(cv::Rect(30 + 8 * (s - 1), 2 + 3 * s, 7, 13));
+    sl_projector::shapeTemplate(s, 7, 13, 0.8).convertTo(roi, CV_8U, 200.0, 25.0);
+  }
+  struct Expected
+  {
+    int tw, th, x0, y0, x1, y1, shape;
+    uint32_t correlation, margin, u, v;  // bits
+  };
+  const Expected expected[] = {
+    { 8, 14, 4, 3, 12, 16, 0, 0x3cdd8518u, 0x3a18dec0u, 0x40f0095eu, 0x411006beu },
+    { 8, 14, 19, 19, 29, 33, 0, 0x3e18233bu, 0x3dd6cbaau, 0x41be1d76u, 0x41cf3233u },
+    { 8, 14, 55, 9, 64, 25, 2, 0x3ed64623u, 0x3e6c5981u, 0x42687774u, 0x418bc460u },
+    { 8, 14, 3, 2, 30, 35, 0, 0x3e7022f3u, 0x3db2afdcu, 0x418cdfd8u, 0x418040e2u },
+    { 8, 14, 30, 5, 37, 18, 1, 0x3f7e64f9u, 0x3f61f751u, 0x4205f16fu, 0x4126651eu },
+    { 8, 14, 38, 8, 45, 21, 2, 0x3f7e5b0cu, 0x3f57da85u, 0x42242b1eu, 0x4152d0edu },
+    { 8, 14, 46, 11, 53, 24, 3, 0x3f7e4da2u, 0x3f57d656u, 0x4244192bu, 0x418e5a78u },
+    { 8, 14, 54, 14, 61, 27, 4, 0x3f7e69f2u, 0x3f6088bfu, 0x426436e4u, 0x419928dbu },
+    { 8, 13, 19, 19, 29, 33, 0, 0x3e13fcf5u, 0x3dcd5cc4u, 0x41be1d76u, 0x41cf3233u },
+    { 8, 13, 38, 8, 45, 21, 2, 0x3f7edeeau, 0x3f55075bu, 0x42242b1eu, 0x4152d0edu },
+    { 7, 13, 3, 2, 30, 35, 0, 0x3e9cb2cdu, 0x3e1614dau, 0x418cdfd8u, 0x418040e2u },
+    { 7, 13, 46, 11, 53, 24, 3, 0x3f7fff93u, 0x3f565a7du, 0x4244192bu, 0x418e5a78u },
+  };
+  auto bits = [](float f)
+  {
+    uint32_t b;
+    std::memcpy(&b, &f, sizeof b);
+    return b;
+  };
+  for (bool avx2 : { false, true })
+    for (const Expected& e : expected)
+    {
+      DecoderConfig config;
+      config.template_width = e.tw;
+      config.template_height = e.th;
+      ShapeClassifier classifier(config);
+      classifier.useAvx2(avx2);
+      Blob b;
+      b.x0 = e.x0;
+      b.y0 = e.y0;
+      b.x1 = e.x1;
+      b.y1 = e.y1;
+      classifier.classify(image, b);
+      classifier.refineCentroid(image, b);
+      const std::string where = std::to_string(e.tw) + " x " + std::to_string(e.th) + " box at " +
+                                std::to_string(e.x0) + ", " + std::to_string(e.y0) + (avx2 ? " (AVX2)" : "");
+      EXPECT_EQ(b.shape, e.shape) << where;
+      EXPECT_EQ(bits(b.correlation), e.correlation) << where << ": " << b.correlation;
+      EXPECT_EQ(bits(b.margin), e.margin) << where << ": " << b.margin;
+      EXPECT_EQ(bits(b.u), e.u) << where << ": " << b.u;
+      EXPECT_EQ(bits(b.v), e.v) << where << ": " << b.v;
+    }
+}
+#endif

@@ -19,6 +19,8 @@ namespace sl_decoder
  *
  * The templates are the shapes' area coverage of the grid, blurred a little, normalised to zero
  * mean and unit norm once, so each blob costs one bilinear resampling and four dot products.
+ * Every sum runs in one fixed order (sixteen lanes, see the .cpp) on every path, so the
+ * correlations are the same bits with and without AVX2 (and from version to version).
  */
 class ShapeClassifier
 {
@@ -44,23 +46,34 @@ public:
   void refineCentroid(const cv::Mat& image, Blob& blob, int margin = 2) const;
 
   /**
-   * @brief Uses the AVX2 resampling where the CPU has it (@p on, the default) or the portable loop
-   * only; returns whether AVX2 is in use. Both give bit-identical samples (the same float
+   * @brief Uses the AVX2 paths where the CPU has them (@p on, the default) or the portable ones
+   * only; returns whether AVX2 is in use. Both give bit-identical results (the same float
    * operations in the same order); the choice is for tests and benchmarks.
    */
   bool useAvx2(bool on);
 
 private:
-  /// Bilinear samples of the grid (ix_, ax_, iy_, ay_) into samples_, one grid row at a time.
+  static constexpr int kMaxGrid = 64;  // DecoderConfig limits the template to 64 x 64
+
+  /// Source pixels and weights of the grid columns and rows for @p blob (ix_, ax_, iy_, ay_).
+  void placeGrid(const cv::Mat& image, const Blob& blob);
+  /// Bilinear samples of the grid into samples_, one grid row at a time.
   void sampleGrid(const cv::Mat& image);
+  /// The sums of samples_ (sum, sum of squares, the four dot products) in the fixed order.
+  void sumSamples(float sums[6]) const;
+  /// classify() with AVX2, for a grid 8 samples wide.
+  void classify8Avx2(const cv::Mat& image, Blob& blob);
+  /// Correlations from the sums; sets blob.shape, blob.correlation, blob.margin.
+  void decide(const float sums[6], Blob& blob) const;
 
   bool avx2_ = false;
   DecoderConfig config_;
   int tw_, th_;
   std::array<std::vector<float>, 4> templates_;  // zero mean, unit norm
+  std::vector<float> rows_;                      // the same, grid row after grid row the four templates' rows (AVX2)
   std::vector<float> samples_;
-  std::vector<int> ix_, iy_;    // sample grid: left/top source pixel
-  std::vector<float> ax_, ay_;  // and the interpolation weights
+  std::array<int, kMaxGrid> ix_{}, iy_{};    // sample grid: left/top source pixel
+  std::array<float, kMaxGrid> ax_{}, ay_{};  // and the interpolation weights
 };
 
 }  // namespace sl_decoder

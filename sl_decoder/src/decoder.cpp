@@ -67,6 +67,7 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
     words_.reset();  // a pattern whose words repeat decodes from candidates and support alone
   }
   owner_.assign(cells, -1);
+  preparePrimitives();
   // A primitive's box in the image: its share of the pattern's cell, scaled by the local steps.
   const sl_projector::PatternConfig& pc = rig.pattern;
   detector_.setPrimitiveSize(index_->stepEast().norm() * pc.primitive_width / pc.cellWidth(),
@@ -79,6 +80,29 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
 }
 
 Decoder::~Decoder() = default;
+
+void Decoder::preparePrimitives()
+{
+  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
+  const size_t n = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  edges_.assign(n, 0);
+  dir_dot_origin_.resize(n);
+  for (int d = 0; d < 4; ++d)
+    adjacent_step_[d] = kDRow[d] * cols + kDCol[d];
+  const Eigen::Vector3d& o = index_->projectorOrigin();
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+    {
+      const size_t p = static_cast<size_t>(r) * static_cast<size_t>(cols) + static_cast<size_t>(c);
+      for (int d = 0; d < 4; ++d)
+      {
+        const int rr = r + kDRow[d], cc = c + kDCol[d];
+        if (rr >= 0 && cc >= 0 && rr < rows && cc < cols)
+          edges_[p] |= static_cast<uint8_t>(1 << d);
+      }
+      dir_dot_origin_[p] = index_->projectorDirection(static_cast<int>(p)).dot(o);
+    }
+}
 
 void Decoder::decode(const cv::Mat& image, DecodeResult& result)
 {
@@ -139,11 +163,10 @@ void Decoder::placeBandCell(Blob& b) const
 
 void Decoder::findCandidates(DecodeResult& result)
 {
-  const int cols = rig_.pattern.cols;
-  const std::vector<int>& values = pattern_.array().values();
   const Eigen::Vector3d& o = index_->projectorOrigin();
   const double fx = rig_.camera.fx;
   cand_begin_.resize(result.blobs.size() + 1);
+  rays_.resize(result.blobs.size());
   cands_.clear();
   // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
   // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
@@ -186,23 +209,21 @@ void Decoder::findCandidates(DecodeResult& result)
     if (std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
         std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f)
       continue;
-    const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);
-    const Eigen::Vector3d d1 = ray.normalized();
+    rays_[bi] = index_->cameraRay(b.u, b.v);
+    const Eigen::Vector3d d1 = rays_[bi].normalized();
     const double d1o = d1.dot(o);
     const int32_t *it, *end;
-    index_->candidates(b.u, b.v, it, end);
+    index_->candidates(b.u, b.v, b.shape, it, end);
     for (; it != end; ++it)
     {
       const int32_t p = *it;
-      if (values[static_cast<size_t>(p)] != b.shape)
-        continue;
       // Closest approach of the camera ray and the projector ray of primitive p.
       const Eigen::Vector3d& d2 = index_->projectorDirection(p);
       const double c = d1.dot(d2);
       const double denom = 1.0 - c * c;
       if (denom < 1e-12)
         continue;
-      const double d2o = d2.dot(o);
+      const double d2o = dir_dot_origin_[static_cast<size_t>(p)];
       const double s = (d1o - c * d2o) / denom;
       const double u = (c * d1o - d2o) / denom;
       const double z = s * d1.z();
@@ -216,36 +237,42 @@ void Decoder::findCandidates(DecodeResult& result)
       if (epipolar_px > 2.0 * config_.epipolar_tolerance)
         continue;
       cands_.push_back(Candidate{ p, static_cast<float>(z), static_cast<float>(epipolar_px), 0,
-                                  epipolar_px <= config_.epipolar_tolerance });
+                                  epipolar_px <= config_.epipolar_tolerance, edges_[static_cast<size_t>(p)] });
     }
-    (void)cols;
   }
   cand_begin_[result.blobs.size()] = static_cast<int32_t>(cands_.size());
 }
 
-void Decoder::findNeighbours(DecodeResult& result)
+void Decoder::fillGrid(const std::vector<Blob>& blobs)
 {
-  std::vector<Blob>& blobs = result.blobs;
   const size_t cells = grid_cells_;
   grid_start_.assign(cells + 1, 0);
-  auto cellOf = [&](const Blob& b)
+  blob_cell_.resize(blobs.size());
+  // Counting sort of identified blobs into grid cells, each with its centroid (a compact copy).
+  for (size_t i = 0; i < blobs.size(); ++i)
   {
+    const Blob& b = blobs[i];
+    if (b.shape == 0)
+      continue;
     const int gx = std::min(grid_w_ - 1, std::max(0, static_cast<int>(b.u / grid_cell_)));
     const int gy = std::min(grid_h_ - 1, std::max(0, static_cast<int>(b.v / grid_cell_)));
-    return static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
-  };
-  // Counting sort of identified blobs into grid cells.
-  for (const Blob& b : blobs)
-    if (b.shape > 0)
-      ++grid_start_[cellOf(b) + 1];
+    blob_cell_[i] = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
+    ++grid_start_[blob_cell_[i] + 1];
+  }
   for (size_t k = 0; k < cells; ++k)
     grid_start_[k + 1] += grid_start_[k];
   grid_items_.resize(static_cast<size_t>(grid_start_[cells]));
   grid_fill_.assign(grid_start_.begin(), grid_start_.end() - 1);
   for (size_t i = 0; i < blobs.size(); ++i)
     if (blobs[i].shape > 0)
-      grid_items_[static_cast<size_t>(grid_fill_[cellOf(blobs[i])]++)] = static_cast<int32_t>(i);
+      grid_items_[static_cast<size_t>(grid_fill_[blob_cell_[i]]++)] =
+          GridItem{ blobs[i].u, blobs[i].v, static_cast<int32_t>(i) };
+}
 
+void Decoder::findNeighbours(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  fillGrid(blobs);
   // Each direction's window is a parallelogram around the expected position; only the grid cells
   // under its bounding box are visited.
   struct Window
@@ -297,45 +324,30 @@ void Decoder::findNeighbours(DecodeResult& result)
       const int gy1 = std::min(grid_h_ - 1, static_cast<int>((my + w.hy) * inv_cell));
       float best = 1e30f;
       int best_j = -1;
-      for (int gy = gy0; gy <= gy1; ++gy)
-        for (int gx = gx0; gx <= gx1; ++gx)
+      // The cells gx0..gx1 of a grid row are one run of items (in the order cell by cell).
+      for (int gy = gy0; gy <= gy1 && gx0 <= gx1; ++gy)
+      {
+        const size_t row = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_);
+        const int32_t k1 = grid_start_[row + static_cast<size_t>(gx1) + 1];
+        for (int32_t k = grid_start_[row + static_cast<size_t>(gx0)]; k < k1; ++k)
         {
-          const size_t cell = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
-          for (int32_t k = grid_start_[cell]; k < grid_start_[cell + 1]; ++k)
+          const GridItem& n = grid_items_[static_cast<size_t>(k)];
+          const float dx = n.u - b.u, dy = n.v - b.v;
+          const float a = (dx * w.ax + dy * w.ay) / w.len;
+          const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
+          if (a < amin || a > amax || c > cmax)
+            continue;
+          const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
+          if (cost < best)
           {
-            const int32_t j = grid_items_[static_cast<size_t>(k)];
-            const Blob& n = blobs[static_cast<size_t>(j)];
-            const float dx = n.u - b.u, dy = n.v - b.v;
-            const float a = (dx * w.ax + dy * w.ay) / w.len;
-            const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
-            if (a < amin || a > amax || c > cmax)
-              continue;
-            const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
-            if (cost < best)
-            {
-              best = cost;
-              best_j = j;
-            }
+            best = cost;
+            best_j = n.j;
           }
         }
+      }
       b.neighbour[d] = best_j;
     }
   }
-}
-
-int Decoder::findCandidate(int blob, int primitive) const
-{
-  for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < cand_begin_[static_cast<size_t>(blob) + 1]; ++k)
-    if (cands_[static_cast<size_t>(k)].primitive == primitive)
-      return static_cast<int>(k);
-  return -1;
-}
-
-int Decoder::adjacent(int p, int d) const
-{
-  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
-  const int r = p / cols + kDRow[d], c = p % cols + kDCol[d];
-  return (r < 0 || c < 0 || r >= rows || c >= cols) ? -1 : r * cols + c;
 }
 
 void Decoder::correspond(DecodeResult& result)
@@ -381,8 +393,7 @@ void Decoder::countSupport(const std::vector<Blob>& blobs)
       for (int d = 0; d < 4; ++d)
       {
         const int n = blobs[i].neighbour[d];
-        const int q = adjacent(c.primitive, d);
-        const int kn = n >= 0 && q >= 0 ? findCandidate(n, q) : -1;
+        const int kn = n >= 0 && ((c.edges >> d) & 1) ? findCandidate(n, c.primitive + adjacent_step_[d]) : -1;
         if (kn >= 0 && cands_[static_cast<size_t>(kn)].tight &&
             std::abs(cands_[static_cast<size_t>(kn)].depth - c.depth) <= step * c.depth)
           c.bits |= static_cast<uint8_t>(1 << d);
@@ -713,7 +724,7 @@ void Decoder::computeDepth(DecodeResult& result)
     if (!b.decoded())
       continue;
     const int p = b.row * cols + b.col;
-    const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);  // z = 1
+    const Eigen::Vector3d& ray = rays_[i];  // cameraRay(b.u, b.v), z = 1: decoded blobs had candidates
     double z = std::numeric_limits<double>::quiet_NaN();
     switch (config_.depth_mode)
     {
@@ -722,7 +733,7 @@ void Decoder::computeDepth(DecodeResult& result)
         const Eigen::Vector3d d1 = ray.normalized();
         const Eigen::Vector3d& d2 = index_->projectorDirection(p);
         const double c = d1.dot(d2);
-        const double s = (d1.dot(o) - c * d2.dot(o)) / (1.0 - c * c);
+        const double s = (d1.dot(o) - c * dir_dot_origin_[static_cast<size_t>(p)]) / (1.0 - c * c);
         z = s * d1.z();
         break;
       }

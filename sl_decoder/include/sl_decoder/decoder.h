@@ -108,11 +108,16 @@ private:
     float epipolar;  // px
     uint8_t bits;    // consistent neighbours, bit d for Direction d
     bool tight;      // within the epipolar tolerance (others, within twice it, only compete)
+    uint8_t edges;   // bit d: the pattern has a primitive next to this one in Direction d
   };
 
+  /// Fills the per-primitive tables (edges_, adjacent_step_, dir_dot_origin_) once for the rig.
+  void preparePrimitives();
   /// Maps a cell read from a saturated band's outline into pattern terms and moves it to its centroid.
   void placeBandCell(Blob& b) const;
   void findCandidates(DecodeResult& result);
+  /// Sorts the identified blobs into the neighbour grid (grid_start_, grid_items_).
+  void fillGrid(const std::vector<Blob>& blobs);
   void findNeighbours(DecodeResult& result);
   /// Step 6 (geometry first): support, the best supported candidate, full words, growth.
   void correspond(DecodeResult& result);
@@ -141,10 +146,17 @@ private:
   /// @p primitive: six with no exception or nine with one.
   bool rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const;
   static constexpr int kRowCheck = 4;
-  /// The candidate of @p blob for @p primitive, or -1.
-  int findCandidate(int blob, int primitive) const;
-  /// The primitive adjacent to @p p in direction @p d, or -1 outside the pattern.
-  int adjacent(int p, int d) const;
+  /// The candidate of @p blob for @p primitive, or -1 (inline: the correspondence's inner loop).
+  int findCandidate(int blob, int primitive) const
+  {
+    const int32_t k1 = cand_begin_[static_cast<size_t>(blob) + 1];
+    for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < k1; ++k)
+      if (cands_[static_cast<size_t>(k)].primitive == primitive)
+        return static_cast<int>(k);
+    return -1;
+  }
+  /// The primitive adjacent to @p p (a primitive) in direction @p d, or -1 outside the pattern.
+  int adjacent(int p, int d) const { return (edges_[static_cast<size_t>(p)] >> d) & 1 ? p + adjacent_step_[d] : -1; }
   void computeDepth(DecodeResult& result);
 
   sl_projector::Rig rig_;
@@ -154,15 +166,27 @@ private:
   std::unique_ptr<sl_projector::WordTable> words_;  // null when the pattern's words repeat
   BlobDetector detector_;
   ShapeClassifier classifier_;
+  // Per-primitive geometry, fixed for the rig.
+  std::vector<uint8_t> edges_;          // Candidate::edges of each primitive
+  int adjacent_step_[4] = {};           // index step to the adjacent primitive per Direction
+  std::vector<double> dir_dot_origin_;  // projectorDirection(p) . projectorOrigin()
   // Per-frame work buffers.
   std::vector<int32_t> cand_begin_;  // blobs + 1
   std::vector<Candidate> cands_;
-  std::vector<int32_t> grid_start_, grid_items_, grid_fill_;
-  std::vector<int32_t> owner_;              // primitive -> blob, for duplicate detection
-  std::vector<int32_t> label_;              // blob -> candidate index (working copy)
-  std::vector<int32_t> grow_;               // (blob, candidate) pairs decoded in a growth round
-  std::vector<int32_t> word_;               // blob -> primitive its full word names, or -1 (identify_by_words)
-  static constexpr size_t kSizeLevels = 8;  // Blob::level values with their own median (more share the last)
+  std::vector<Eigen::Vector3d> rays_;  // blob -> cameraRay of its centroid (blobs with candidates)
+  struct GridItem
+  {
+    float u, v;  // the blob's centroid, px
+    int32_t j;   // the blob
+  };
+  std::vector<int32_t> grid_start_, grid_fill_;  // CSR offsets per cell, fill positions
+  std::vector<GridItem> grid_items_;             // identified blobs, cell by cell
+  std::vector<size_t> blob_cell_;                // blob -> its grid cell (identified blobs)
+  std::vector<int32_t> owner_;                   // primitive -> blob, for duplicate detection
+  std::vector<int32_t> label_;                   // blob -> candidate index (working copy)
+  std::vector<int32_t> grow_;                    // (blob, candidate) pairs decoded in a growth round
+  std::vector<int32_t> word_;                    // blob -> primitive its full word names, or -1 (identify_by_words)
+  static constexpr size_t kSizeLevels = 8;       // Blob::level values with their own median (more share the last)
   std::vector<int> sizes_w_[kSizeLevels], sizes_h_[kSizeLevels];  // box sizes of identified blobs per level
   int grid_w_ = 0, grid_h_ = 0;
   size_t grid_cells_ = 0;  // grid_w_ * grid_h_, computed once in 64 bits

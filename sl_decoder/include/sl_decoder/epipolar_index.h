@@ -37,15 +37,22 @@ public:
   EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& config);
 
   /// @brief Candidate primitive indices (row * cols + col) near pixel (u, v); a superset.
+  /// Grouped by primitive value (ascending), in index order within a value.
   void candidates(float u, float v, const int32_t*& begin, const int32_t*& end) const
   {
-    int bx = static_cast<int>(u + 0.5f) >> kBlockShift;
-    int by = static_cast<int>(v + 0.5f) >> kBlockShift;
-    bx = bx < 0 ? 0 : (bx >= blocks_x_ ? blocks_x_ - 1 : bx);
-    by = by < 0 ? 0 : (by >= blocks_y_ ? blocks_y_ - 1 : by);
-    const size_t b = static_cast<size_t>(by) * static_cast<size_t>(blocks_x_) + static_cast<size_t>(bx);
+    const size_t b = block(u, v) * shape_slots_;
     begin = entries_.data() + block_start_[b];
-    end = entries_.data() + block_start_[b + 1];
+    end = entries_.data() + block_start_[b + shape_slots_];
+  }
+
+  /// @brief The candidates near pixel (u, v) whose primitive value is @p shape, in index order: the
+  /// subsequence of candidates(u, v) with that value (empty for a value the pattern lacks).
+  void candidates(float u, float v, int shape, const int32_t*& begin, const int32_t*& end) const
+  {
+    const size_t b = block(u, v) * shape_slots_ + static_cast<size_t>(shape);
+    const bool known = shape >= 0 && static_cast<size_t>(shape) < shape_slots_;
+    begin = entries_.data() + (known ? block_start_[b] : 0);
+    end = entries_.data() + (known ? block_start_[b + 1] : 0);
   }
 
   /// @brief Undistorted ray (x/z, y/z, 1) of camera pixel (u, v), bilinear in a fine table.
@@ -71,8 +78,21 @@ private:
   static constexpr int kBlockShift = 2;  // 4 px blocks
   static constexpr int kRayStep = 4;     // ray table spacing, px
 
+  /// The block of pixel (u, v), clamped to the image.
+  size_t block(float u, float v) const
+  {
+    int bx = static_cast<int>(u + 0.5f) >> kBlockShift;
+    int by = static_cast<int>(v + 0.5f) >> kBlockShift;
+    bx = bx < 0 ? 0 : (bx >= blocks_x_ ? blocks_x_ - 1 : bx);
+    by = by < 0 ? 0 : (by >= blocks_y_ ? blocks_y_ - 1 : by);
+    return static_cast<size_t>(by) * static_cast<size_t>(blocks_x_) + static_cast<size_t>(bx);
+  }
+  /// Fills block_start_ and entries_ from per-block lists, each grouped by primitive value.
+  void storeBlocks(const std::vector<std::vector<int32_t>>& lists, const std::vector<int>& values);
+
   int blocks_x_ = 0, blocks_y_ = 0;
-  std::vector<int32_t> block_start_;  // CSR offsets, blocks + 1
+  size_t shape_slots_ = 1;            // primitive values 0 .. shape_slots_ - 1
+  std::vector<int32_t> block_start_;  // CSR offsets per (block, value), blocks * shape_slots_ + 1
   std::vector<int32_t> entries_;
   int ray_w_ = 0, ray_h_ = 0;
   std::vector<Eigen::Vector2d> ray_table_;  // undistorted normalised coordinates on a kRayStep grid

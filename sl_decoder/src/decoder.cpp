@@ -161,32 +161,22 @@ void Decoder::placeBandCell(Blob& b) const
   b.v += static_cast<float>(offset * index_->stepSouth().y() / pc.cellHeight());
 }
 
-void Decoder::findCandidates(DecodeResult& result)
+void Decoder::sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h)
 {
-  const Eigen::Vector3d& o = index_->projectorOrigin();
-  const double fx = rig_.camera.fx;
-  cand_begin_.resize(result.blobs.size() + 1);
-  rays_.resize(result.blobs.size());
-  cands_.clear();
-  // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
-  // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
-  // Blobs split out of merged components were cut at a raised threshold: each level has its own
-  // typical size.
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
     sizes_w_[l].clear();
     sizes_h_[l].clear();
   }
-  auto levelOf = [](const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); };
-  for (const Blob& b : result.blobs)
+  for (const Blob& b : blobs)
     if (b.shape > 0)
     {
       sizes_w_[levelOf(b)].push_back(b.width());
       sizes_h_[levelOf(b)].push_back(b.height());
     }
-  float median_w[kSizeLevels] = {}, median_h[kSizeLevels] = {};
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
+    median_w[l] = median_h[l] = 0.f;
     std::vector<int>& ws = sizes_w_[l];
     std::vector<int>& hs = sizes_h_[l];
     if (ws.empty())
@@ -197,11 +187,25 @@ void Decoder::findCandidates(DecodeResult& result)
     median_w[l] = static_cast<float>(ws[mid]);
     median_h[l] = static_cast<float>(hs[mid]);
   }
+}
+
+void Decoder::findCandidates(DecodeResult& result)
+{
+  const std::vector<Blob>& blobs = result.blobs;
+  cand_begin_.resize(blobs.size() + 1);
+  rays_.resize(blobs.size());
+  // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
+  // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
+  // Blobs split out of merged components were cut at a raised threshold: each level has its own
+  // typical size.
+  float median_w[kSizeLevels], median_h[kSizeLevels];
+  sizeMedians(blobs, median_w, median_h);
   const float dev = static_cast<float>(config_.max_size_deviation);
-  for (size_t bi = 0; bi < result.blobs.size(); ++bi)
+  size_t used = 0;  // cands_ is a buffer: its first `used` entries are this frame's
+  for (size_t bi = 0; bi < blobs.size(); ++bi)
   {
-    cand_begin_[bi] = static_cast<int32_t>(cands_.size());
-    const Blob& b = result.blobs[bi];
+    cand_begin_[bi] = static_cast<int32_t>(used);
+    const Blob& b = blobs[bi];
     if (b.shape == 0)
       continue;
     // One pixel of slack: boxes are whole pixels.
@@ -210,37 +214,52 @@ void Decoder::findCandidates(DecodeResult& result)
         std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f)
       continue;
     rays_[bi] = index_->cameraRay(b.u, b.v);
-    const Eigen::Vector3d d1 = rays_[bi].normalized();
-    const double d1o = d1.dot(o);
-    const int32_t *it, *end;
-    index_->candidates(b.u, b.v, b.shape, it, end);
-    for (; it != end; ++it)
-    {
-      const int32_t p = *it;
-      // Closest approach of the camera ray and the projector ray of primitive p.
-      const Eigen::Vector3d& d2 = index_->projectorDirection(p);
-      const double c = d1.dot(d2);
-      const double denom = 1.0 - c * c;
-      if (denom < 1e-12)
-        continue;
-      const double d2o = dir_dot_origin_[static_cast<size_t>(p)];
-      const double s = (d1o - c * d2o) / denom;
-      const double u = (c * d1o - d2o) / denom;
-      const double z = s * d1.z();
-      if (z < config_.min_depth || z > config_.max_depth || u <= 0.0)
-        continue;
-      const double gap = (s * d1 - (o + u * d2)).norm();
-      const double epipolar_px = gap / z * fx;  // the gap seen from the camera, in pixels
-      // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
-      // a partial occlusion may push the true primitive just outside the tolerance while a wrong
-      // one along the same epipolar curve stays inside; such a blob must stay undecided.
-      if (epipolar_px > 2.0 * config_.epipolar_tolerance)
-        continue;
-      cands_.push_back(Candidate{ p, static_cast<float>(z), static_cast<float>(epipolar_px), 0,
-                                  epipolar_px <= config_.epipolar_tolerance, edges_[static_cast<size_t>(p)] });
-    }
+    used = appendCandidates(b, rays_[bi], used);
   }
-  cand_begin_[result.blobs.size()] = static_cast<int32_t>(cands_.size());
+  cand_begin_[blobs.size()] = static_cast<int32_t>(used);
+  cands_.resize(used);
+}
+
+size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& ray, size_t used)
+{
+  const Eigen::Vector3d& o = index_->projectorOrigin();
+  const double fx = rig_.camera.fx;
+  const Eigen::Vector3d d1 = ray.normalized();
+  const double d1o = d1.dot(o);
+  const int32_t *it, *end;
+  index_->candidates(b.u, b.v, b.shape, it, end);
+  if (cands_.size() < used + static_cast<size_t>(end - it))
+    cands_.resize(std::max(2 * cands_.size(), used + static_cast<size_t>(end - it)));
+  for (; it != end; ++it)
+  {
+    const int32_t p = *it;
+    // Closest approach of the camera ray and the projector ray of primitive p.
+    const Eigen::Vector3d& d2 = index_->projectorDirection(p);
+    const double c = d1.dot(d2);
+    const double denom = 1.0 - c * c;
+    const double d2o = dir_dot_origin_[static_cast<size_t>(p)];
+    const double s = (d1o - c * d2o) / denom;
+    const double u = (c * d1o - d2o) / denom;
+    const double z = s * d1.z();
+    const double gap = (s * d1 - (o + u * d2)).norm();
+    const double epipolar_px = gap / z * fx;  // the gap seen from the camera, in pixels
+    // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
+    // a partial occlusion may push the true primitive just outside the tolerance while a wrong
+    // one along the same epipolar curve stays inside; such a blob must stay undecided.
+    // The slot is written whatever the outcome and kept or not without a branch: the outcome is
+    // known only at the end of a long chain of divisions, and a mispredicted branch waited for it.
+    const bool rejected = (denom < 1e-12) | (z < config_.min_depth) | (z > config_.max_depth) | (u <= 0.0) |
+                          (epipolar_px > 2.0 * config_.epipolar_tolerance);
+    Candidate& k = cands_[used];
+    k.primitive = p;
+    k.depth = static_cast<float>(z);
+    k.epipolar = static_cast<float>(epipolar_px);
+    k.bits = 0;
+    k.tight = epipolar_px <= config_.epipolar_tolerance;
+    k.edges = edges_[static_cast<size_t>(p)];
+    used += !rejected;
+  }
+  return used;
 }
 
 void Decoder::fillGrid(const std::vector<Blob>& blobs)

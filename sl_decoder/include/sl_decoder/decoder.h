@@ -2,6 +2,7 @@
 /// @file decoder.h
 /// @brief The decoding pipeline: camera image to decoded primitives with 3D points (ROS-free).
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -115,7 +116,15 @@ private:
   void preparePrimitives();
   /// Maps a cell read from a saturated band's outline into pattern terms and moves it to its centroid.
   void placeBandCell(Blob& b) const;
+  /// Step 4: the candidates of every blob of typical size (cand_begin_, cands_, rays_).
   void findCandidates(DecodeResult& result);
+  /// The median box width and height of the identified blobs of each level (0 for none).
+  void sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h);
+  /// Blob level -> the index of its size statistics.
+  static size_t levelOf(const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); }
+  /// Writes the candidates of blob @p b (camera ray @p ray) into cands_ from @p used on, growing the
+  /// buffer as needed; returns the new count.
+  size_t appendCandidates(const Blob& b, const Eigen::Vector3d& ray, size_t used);
   /// Sorts the identified blobs into the neighbour grid (grid_start_, grid_items_).
   void fillGrid(const std::vector<Blob>& blobs);
   void findNeighbours(DecodeResult& result);

@@ -354,14 +354,11 @@ void Decoder::findNeighbours(DecodeResult& result)
           const float dx = n.u - b.u, dy = n.v - b.v;
           const float a = (dx * w.ax + dy * w.ay) / w.len;
           const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
-          if (a < amin || a > amax || c > cmax)
-            continue;
           const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
-          if (cost < best)
-          {
-            best = cost;
-            best_j = n.j;
-          }
+          // Selected without a branch: whether a blob lies in the window is a coin toss.
+          const bool take = !(a < amin) & !(a > amax) & !(c > cmax) & (cost < best);
+          best = take ? cost : best;
+          best_j = take ? n.j : best_j;
         }
       }
       b.neighbour[d] = best_j;
@@ -405,19 +402,31 @@ void Decoder::countSupport(const std::vector<Blob>& blobs)
   // depth. Only a neighbour whose own geometry fits (a tight candidate) lends support.
   const float step = static_cast<float>(config_.max_depth_step);
   for (size_t i = 0; i < blobs.size(); ++i)
-    for (int32_t k = cand_begin_[i]; k < cand_begin_[i + 1]; ++k)
+  {
+    const int32_t k0 = cand_begin_[i], k1 = cand_begin_[i + 1];
+    for (int32_t k = k0; k < k1; ++k)
+      cands_[static_cast<size_t>(k)].bits = 0;
+    for (int d = 0; d < 4 && k0 != k1; ++d)
     {
-      Candidate& c = cands_[static_cast<size_t>(k)];
-      c.bits = 0;
-      for (int d = 0; d < 4; ++d)
+      const int n = blobs[i].neighbour[d];
+      if (n < 0)
+        continue;
+      // The neighbour's few candidates are scanned whole, without early exits (they mispredicted);
+      // a blob lists each primitive at most once, so the match found is findCandidate's.
+      const int32_t j0 = cand_begin_[static_cast<size_t>(n)], j1 = cand_begin_[static_cast<size_t>(n) + 1];
+      for (int32_t k = k0; k < k1; ++k)
       {
-        const int n = blobs[i].neighbour[d];
-        const int kn = n >= 0 && ((c.edges >> d) & 1) ? findCandidate(n, c.primitive + adjacent_step_[d]) : -1;
-        if (kn >= 0 && cands_[static_cast<size_t>(kn)].tight &&
-            std::abs(cands_[static_cast<size_t>(kn)].depth - c.depth) <= step * c.depth)
-          c.bits |= static_cast<uint8_t>(1 << d);
+        Candidate& c = cands_[static_cast<size_t>(k)];
+        const int q = ((c.edges >> d) & 1) ? c.primitive + adjacent_step_[d] : -1;
+        int32_t kn = k;  // a stand-in that never supports: it is not q
+        for (int32_t j = j0; j < j1; ++j)
+          kn = cands_[static_cast<size_t>(j)].primitive == q ? j : kn;
+        const Candidate& m = cands_[static_cast<size_t>(kn)];
+        const bool support = kn != k && m.tight && std::abs(m.depth - c.depth) <= step * c.depth;
+        c.bits |= static_cast<uint8_t>(support << d);
       }
     }
+  }
 }
 
 int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const

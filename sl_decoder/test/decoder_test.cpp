@@ -1,14 +1,17 @@
 // The decoder on images and rigs that need no rendering: bad images, rigs it must refuse.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/epipolar_index.h"
+#include "sl_projector/pattern.h"
 #include "sl_projector/rig.h"
 
 using namespace sl_decoder;
@@ -70,4 +73,40 @@ TEST(Decoder, DepthTablesAreRequiredForTableModes)
   c = DecoderConfig();
   c.min_depth = -1.0;
   EXPECT_THROW(Decoder(defaultRig(), c), std::invalid_argument);
+}
+
+// The per-shape look-up is the plain look-up filtered by primitive value, order kept: the decoder
+// checks only the primitives of a blob's shape, in index order.
+TEST(EpipolarIndex, ShapeListsAreTheCandidatesOfThatValue)
+{
+  const sl_projector::Rig& rig = defaultRig();
+  const EpipolarIndex index(rig, DecoderConfig());
+  const sl_projector::Pattern pattern(rig.pattern);
+  const std::vector<int>& values = pattern.array().values();
+  size_t listed = 0;
+  for (float v = -3.f; v < rig.camera.height + 3.f; v += 2.5f)
+    for (float u = -3.f; u < rig.camera.width + 3.f; u += 2.5f)
+    {
+      const int32_t *all, *all_end;
+      index.candidates(u, v, all, all_end);
+      size_t total = 0;
+      for (int shape = 0; shape <= 5; ++shape)
+      {
+        std::vector<int32_t> expected;
+        for (const int32_t* p = all; p != all_end; ++p)
+          if (values[static_cast<size_t>(*p)] == shape)
+            expected.push_back(*p);
+        const int32_t *it, *end;
+        index.candidates(u, v, shape, it, end);
+        ASSERT_EQ(std::vector<int32_t>(it, end), expected) << u << " " << v << " shape " << shape;
+        EXPECT_TRUE(std::is_sorted(it, end));  // index order, as the curves were traced
+        total += expected.size();
+      }
+      EXPECT_EQ(total, static_cast<size_t>(all_end - all));
+      listed += total;
+      const int32_t *it, *end;
+      index.candidates(u, v, -1, it, end);
+      EXPECT_EQ(it, end);
+    }
+  EXPECT_GT(listed, 0u);
 }

@@ -229,7 +229,7 @@ size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& ray, size
   const int32_t *it, *end;
   index_->candidates(b.u, b.v, b.shape, it, end);
   if (cands_.size() < used + static_cast<size_t>(end - it))
-    cands_.resize(std::max(2 * cands_.size(), used + static_cast<size_t>(end - it)));
+    cands_.resize(std::max(cands_.capacity(), used + static_cast<size_t>(end - it)));  // no allocation once warm
   for (; it != end; ++it)
   {
     const int32_t p = *it;

@@ -194,6 +194,8 @@ void Decoder::findCandidates(DecodeResult& result)
   const std::vector<Blob>& blobs = result.blobs;
   cand_begin_.resize(blobs.size() + 1);
   rays_.resize(blobs.size());
+  units_.resize(blobs.size());
+  typical_.resize(blobs.size());
   // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
   // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
   // Blobs split out of merged components were cut at a raised threshold: each level has its own
@@ -201,64 +203,74 @@ void Decoder::findCandidates(DecodeResult& result)
   float median_w[kSizeLevels], median_h[kSizeLevels];
   sizeMedians(blobs, median_w, median_h);
   const float dev = static_cast<float>(config_.max_size_deviation);
+  // First every blob's camera ray, then the candidates: a ray's interpolation and normalisation
+  // ahead of each blob's candidates made one long dependent chain per blob.
+  for (size_t bi = 0; bi < blobs.size(); ++bi)
+  {
+    const Blob& b = blobs[bi];
+    // One pixel of slack: boxes are whole pixels.
+    const float mw = median_w[levelOf(b)], mh = median_h[levelOf(b)];
+    typical_[bi] = b.shape != 0 && !(std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
+                                     std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f);
+    if (!typical_[bi])
+      continue;
+    rays_[bi] = index_->cameraRay(b.u, b.v);
+    units_[bi] = rays_[bi].normalized();
+  }
   size_t used = 0;  // cands_ is a buffer: its first `used` entries are this frame's
   for (size_t bi = 0; bi < blobs.size(); ++bi)
   {
     cand_begin_[bi] = static_cast<int32_t>(used);
-    const Blob& b = blobs[bi];
-    if (b.shape == 0)
-      continue;
-    // One pixel of slack: boxes are whole pixels.
-    const float mw = median_w[levelOf(b)], mh = median_h[levelOf(b)];
-    if (std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
-        std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f)
-      continue;
-    rays_[bi] = index_->cameraRay(b.u, b.v);
-    used = appendCandidates(b, rays_[bi], used);
+    if (typical_[bi])
+      used = appendCandidates(blobs[bi], units_[bi], used);
   }
   cand_begin_[blobs.size()] = static_cast<int32_t>(used);
   cands_.resize(used);
 }
 
-size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& ray, size_t used)
+// Inline (only this file calls it): an exported member is not inlined in a shared library.
+inline size_t Decoder::keepCandidate(int32_t p, const RayApproach& r, size_t used)
 {
-  const Eigen::Vector3d& o = index_->projectorOrigin();
-  const double fx = rig_.camera.fx;
-  const Eigen::Vector3d d1 = ray.normalized();
-  const double d1o = d1.dot(o);
+  // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
+  // a partial occlusion may push the true primitive just outside the tolerance while a wrong
+  // one along the same epipolar curve stays inside; such a blob must stay undecided.
+  // The slot is written whatever the outcome and kept or not without a branch: the outcome is
+  // known only at the end of a long chain of divisions, and a mispredicted branch waited for it.
+  const bool rejected = (r.denom < 1e-12) | (r.z < config_.min_depth) | (r.z > config_.max_depth) | (r.u <= 0.0) |
+                        (r.epipolar_px > 2.0 * config_.epipolar_tolerance);
+  Candidate& k = cands_[used];
+  k.primitive = p;
+  k.depth = static_cast<float>(r.z);
+  k.epipolar = static_cast<float>(r.epipolar_px);
+  k.bits = 0;
+  k.tight = r.epipolar_px <= config_.epipolar_tolerance;
+  k.edges = edges_[static_cast<size_t>(p)];
+  return used + !rejected;
+}
+
+size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used)
+{
+  CameraRayTerms cam;
+  cam.o = index_->projectorOrigin();
+  cam.fx = rig_.camera.fx;
+  cam.d1 = unit;
+  cam.d1o = cam.d1.dot(cam.o);
   const int32_t *it, *end;
   index_->candidates(b.u, b.v, b.shape, it, end);
   if (cands_.size() < used + static_cast<size_t>(end - it))
     cands_.resize(std::max(cands_.capacity(), used + static_cast<size_t>(end - it)));  // no allocation once warm
-  for (; it != end; ++it)
+  // Two primitives at a time (the divisions and square roots are most of the work).
+  RayApproach ra, rb;
+  for (; end - it >= 2; it += 2)
   {
-    const int32_t p = *it;
-    // Closest approach of the camera ray and the projector ray of primitive p.
-    const Eigen::Vector3d& d2 = index_->projectorDirection(p);
-    const double c = d1.dot(d2);
-    const double denom = 1.0 - c * c;
-    const double d2o = dir_dot_origin_[static_cast<size_t>(p)];
-    const double s = (d1o - c * d2o) / denom;
-    const double u = (c * d1o - d2o) / denom;
-    const double z = s * d1.z();
-    const double gap = (s * d1 - (o + u * d2)).norm();
-    const double epipolar_px = gap / z * fx;  // the gap seen from the camera, in pixels
-    // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
-    // a partial occlusion may push the true primitive just outside the tolerance while a wrong
-    // one along the same epipolar curve stays inside; such a blob must stay undecided.
-    // The slot is written whatever the outcome and kept or not without a branch: the outcome is
-    // known only at the end of a long chain of divisions, and a mispredicted branch waited for it.
-    const bool rejected = (denom < 1e-12) | (z < config_.min_depth) | (z > config_.max_depth) | (u <= 0.0) |
-                          (epipolar_px > 2.0 * config_.epipolar_tolerance);
-    Candidate& k = cands_[used];
-    k.primitive = p;
-    k.depth = static_cast<float>(z);
-    k.epipolar = static_cast<float>(epipolar_px);
-    k.bits = 0;
-    k.tight = epipolar_px <= config_.epipolar_tolerance;
-    k.edges = edges_[static_cast<size_t>(p)];
-    used += !rejected;
+    rayApproach2(cam, index_->projectorDirection(it[0]), dir_dot_origin_[static_cast<size_t>(it[0])],
+                 index_->projectorDirection(it[1]), dir_dot_origin_[static_cast<size_t>(it[1])], ra, rb);
+    used = keepCandidate(it[0], ra, used);
+    used = keepCandidate(it[1], rb, used);
   }
+  if (it != end)
+    used = keepCandidate(
+        *it, rayApproach(cam, index_->projectorDirection(*it), dir_dot_origin_[static_cast<size_t>(*it)]), used);
   return used;
 }
 

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/epipolar_index.h"
+#include "sl_decoder/ray_approach.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/rig.h"
 
@@ -109,4 +111,36 @@ TEST(EpipolarIndex, ShapeListsAreTheCandidatesOfThatValue)
       EXPECT_EQ(it, end);
     }
   EXPECT_GT(listed, 0u);
+}
+
+// The decoder computes its candidates' geometry two at a time (SSE2): bit for bit what one at a
+// time gives, on random rays, near-parallel ones included.
+TEST(RayApproach, TwoAtATimeIsBitIdenticalToOneAtATime)
+{
+  cv::RNG rng(5);
+  auto unit = [&](double spread)
+  {
+    const Eigen::Vector3d v(rng.uniform(-spread, spread), rng.uniform(-spread, spread), 1.0);
+    return Eigen::Vector3d(v.normalized());
+  };
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0 || (a != a && b != b); };
+  for (int i = 0; i < 20000; ++i)
+  {
+    CameraRayTerms cam;
+    cam.o = Eigen::Vector3d(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.05, 0.05));
+    cam.fx = rng.uniform(200.0, 1500.0);
+    cam.d1 = unit(0.8);
+    cam.d1o = cam.d1.dot(cam.o);
+    const Eigen::Vector3d a = i % 7 == 0 ? cam.d1 : unit(0.8), b = unit(0.8);  // some parallel to the camera ray
+    RayApproach ra, rb;
+    rayApproach2(cam, a, a.dot(cam.o), b, b.dot(cam.o), ra, rb);
+    const RayApproach ea = rayApproach(cam, a, a.dot(cam.o)), eb = rayApproach(cam, b, b.dot(cam.o));
+    for (const auto& pair : { std::make_pair(ra, ea), std::make_pair(rb, eb) })
+    {
+      ASSERT_TRUE(same(pair.first.denom, pair.second.denom)) << i;
+      ASSERT_TRUE(same(pair.first.z, pair.second.z)) << i;
+      ASSERT_TRUE(same(pair.first.u, pair.second.u)) << i;
+      ASSERT_TRUE(same(pair.first.epipolar_px, pair.second.epipolar_px)) << i;
+    }
+  }
 }

@@ -15,6 +15,7 @@
 #include "sl_decoder/blob_detector.h"
 #include "sl_decoder/decoder_config.h"
 #include "sl_decoder/epipolar_index.h"
+#include "sl_decoder/ray_approach.h"
 #include "sl_decoder/shape_classifier.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/word_table.h"
@@ -122,9 +123,12 @@ private:
   void sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h);
   /// Blob level -> the index of its size statistics.
   static size_t levelOf(const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); }
-  /// Writes the candidates of blob @p b (camera ray @p ray) into cands_ from @p used on, growing the
-  /// buffer as needed; returns the new count.
-  size_t appendCandidates(const Blob& b, const Eigen::Vector3d& ray, size_t used);
+  /// Writes the candidates of blob @p b (unit camera ray @p unit) into cands_ from @p used on,
+  /// growing the buffer as needed; returns the new count.
+  size_t appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used);
+  /// Writes candidate @p p with approach @p r into slot @p used; returns @p used + 1 when it is
+  /// one (in the depth range, within twice the epipolar tolerance), else @p used.
+  size_t keepCandidate(int32_t p, const RayApproach& r, size_t used);
   /// Sorts the identified blobs into the neighbour grid (grid_start_, grid_items_).
   void fillGrid(const std::vector<Blob>& blobs);
   void findNeighbours(DecodeResult& result);
@@ -182,7 +186,9 @@ private:
   // Per-frame work buffers.
   std::vector<int32_t> cand_begin_;  // blobs + 1
   std::vector<Candidate> cands_;
-  std::vector<Eigen::Vector3d> rays_;  // blob -> cameraRay of its centroid (blobs with candidates)
+  std::vector<Eigen::Vector3d> rays_;   // blob -> cameraRay of its centroid (typical_ blobs)
+  std::vector<Eigen::Vector3d> units_;  // blob -> that ray normalised (typical_ blobs)
+  std::vector<uint8_t> typical_;        // blob -> identified and of typical size: has candidates
   struct GridItem
   {
     float u, v;  // the blob's centroid, px

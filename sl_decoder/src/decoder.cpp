@@ -434,7 +434,7 @@ void Decoder::countSupport(const std::vector<Blob>& blobs)
         for (int32_t j = j0; j < j1; ++j)
           kn = cands_[static_cast<size_t>(j)].primitive == q ? j : kn;
         const Candidate& m = cands_[static_cast<size_t>(kn)];
-        const bool support = kn != k && m.tight && std::abs(m.depth - c.depth) <= step * c.depth;
+        const bool support = (kn != k) & m.tight & (std::abs(m.depth - c.depth) <= step * c.depth);
         c.bits |= static_cast<uint8_t>(support << d);
       }
     }

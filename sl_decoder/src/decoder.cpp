@@ -245,6 +245,7 @@ inline size_t Decoder::keepCandidate(int32_t p, const RayApproach& r, size_t use
   k.bits = 0;
   k.tight = r.epipolar_px <= config_.epipolar_tolerance;
   k.edges = edges_[static_cast<size_t>(p)];
+  cand_z_[used] = r.z;
   return used + !rejected;
 }
 
@@ -258,7 +259,10 @@ size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, siz
   const int32_t *it, *end;
   index_->candidates(b.u, b.v, b.shape, it, end);
   if (cands_.size() < used + static_cast<size_t>(end - it))
+  {
     cands_.resize(std::max(cands_.capacity(), used + static_cast<size_t>(end - it)));  // no allocation once warm
+    cand_z_.resize(cands_.size());
+  }
   // Two primitives at a time (the divisions and square roots are most of the work).
   RayApproach ra, rb;
   for (; end - it >= 2; it += 2)
@@ -756,7 +760,6 @@ void Decoder::finishLabels(DecodeResult& result)
 void Decoder::computeDepth(DecodeResult& result)
 {
   const int cols = rig_.pattern.cols;
-  const Eigen::Vector3d& o = index_->projectorOrigin();
   for (size_t i = 0; i < result.blobs.size(); ++i)
   {
     Blob& b = result.blobs[i];
@@ -769,14 +772,8 @@ void Decoder::computeDepth(DecodeResult& result)
     switch (config_.depth_mode)
     {
       case DepthMode::Triangulation:
-      {
-        const Eigen::Vector3d d1 = ray.normalized();
-        const Eigen::Vector3d& d2 = index_->projectorDirection(p);
-        const double c = d1.dot(d2);
-        const double s = (d1.dot(o) - c * dir_dot_origin_[static_cast<size_t>(p)]) / (1.0 - c * c);
-        z = s * d1.z();
+        z = cand_z_[static_cast<size_t>(label_[i])];  // the ray-ray approach of the candidate's test
         break;
-      }
       case DepthMode::Rational:
       {
         const sl_projector::DepthModel& m = rig_.tables.rational[static_cast<size_t>(p)];

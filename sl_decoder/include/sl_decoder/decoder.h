@@ -186,6 +186,7 @@ private:
   // Per-frame work buffers.
   std::vector<int32_t> cand_begin_;  // blobs + 1
   std::vector<Candidate> cands_;
+  std::vector<double> cand_z_;          // candidate -> its depth as computed (the triangulated depth)
   std::vector<Eigen::Vector3d> rays_;   // blob -> cameraRay of its centroid (typical_ blobs)
   std::vector<Eigen::Vector3d> units_;  // blob -> that ray normalised (typical_ blobs)
   std::vector<uint8_t> typical_;        // blob -> identified and of typical size: has candidates

@@ -249,7 +249,7 @@ inline size_t Decoder::keepCandidate(int32_t p, const RayApproach& r, size_t use
   return used + !rejected;
 }
 
-size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used)
+inline size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used)
 {
   CameraRayTerms cam;
   cam.o = index_->projectorOrigin();
@@ -304,20 +304,8 @@ void Decoder::fillGrid(const std::vector<Blob>& blobs)
           GridItem{ blobs[i].u, blobs[i].v, static_cast<int32_t>(i) };
 }
 
-void Decoder::findNeighbours(DecodeResult& result)
+void Decoder::neighbourWindows(NeighbourWindow* win) const
 {
-  std::vector<Blob>& blobs = result.blobs;
-  fillGrid(blobs);
-  // Each direction's window is a parallelogram around the expected position; only the grid cells
-  // under its bounding box are visited.
-  struct Window
-  {
-    float sx, sy;          // step, px
-    float ax, ay, cx, cy;  // unit along, unit across
-    float len, across;     // step length, length of the across step
-    float mid, hx, hy;     // window centre in steps, bounding-box half size, px
-  };
-  Window win[4];
   const Eigen::Vector2d steps[4] = { -index_->stepSouth(), -index_->stepEast(), index_->stepSouth(),
                                      index_->stepEast() };
   const double across_len[4] = { index_->stepEast().norm(), index_->stepSouth().norm(), index_->stepEast().norm(),
@@ -327,7 +315,7 @@ void Decoder::findNeighbours(DecodeResult& result)
   const float cmax = static_cast<float>(config_.neighbour_across);
   for (int d = 0; d < 4; ++d)
   {
-    Window& w = win[d];
+    NeighbourWindow& w = win[d];
     w.sx = static_cast<float>(steps[d].x());
     w.sy = static_cast<float>(steps[d].y());
     w.len = static_cast<float>(steps[d].norm());
@@ -336,49 +324,79 @@ void Decoder::findNeighbours(DecodeResult& result)
     w.cx = -w.ay;
     w.cy = w.ax;
     w.across = static_cast<float>(across_len[d]);
+    w.amin = amin;
+    w.amax = amax;
+    w.cmax = cmax;
     w.mid = 0.5f * (amin + amax);
     const float ea = 0.5f * (amax - amin) * w.len, ec = cmax * w.across;
     w.hx = std::abs(w.ax) * ea + std::abs(w.cx) * ec;
     w.hy = std::abs(w.ay) * ea + std::abs(w.cy) * ec;
   }
-  const float inv_cell = static_cast<float>(1.0 / grid_cell_);
-  for (size_t i = 0; i < blobs.size(); ++i)
-  {
-    Blob& b = blobs[i];
+}
+
+void Decoder::findNeighbours(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  fillGrid(blobs);
+  NeighbourWindow win[4];
+  neighbourWindows(win);
+  // Only the south and east windows are searched. The west and north ones follow: the windows of
+  // opposite directions are mirror images, so blob n lies in blob i's east window at cost C exactly
+  // (bit for bit) when i lies in n's west window at cost C. Each blob found in a searched window is
+  // offered to the mirrored one (offered_cost_, offered_key_).
+  for (Blob& b : blobs)
     for (int d = 0; d < 4; ++d)
       b.neighbour[d] = -1;
-    if (b.shape == 0)
-      continue;
-    for (int d = 0; d < 4; ++d)
+  offered_cost_.assign(2 * blobs.size(), kNoCost);
+  offered_key_.resize(2 * blobs.size());
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (blobs[i].shape > 0)
+      for (const int d : { kSouth, kEast })
+        blobs[i].neighbour[d] = searchWindow(blobs, static_cast<int>(i), win[d], kOpposite[d]);
+}
+
+int Decoder::searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow& w, int mirrored)
+{
+  const Blob& b = blobs[static_cast<size_t>(i)];
+  const float inv_cell = static_cast<float>(1.0 / grid_cell_);
+  // The grid cells under the window's bounding box.
+  const float mx = b.u + w.sx * w.mid, my = b.v + w.sy * w.mid;
+  const int gx0 = std::max(0, static_cast<int>((mx - w.hx) * inv_cell));
+  const int gx1 = std::min(grid_w_ - 1, static_cast<int>((mx + w.hx) * inv_cell));
+  const int gy0 = std::max(0, static_cast<int>((my - w.hy) * inv_cell));
+  const int gy1 = std::min(grid_h_ - 1, static_cast<int>((my + w.hy) * inv_cell));
+  float best = kNoCost;
+  int best_j = -1;
+  // The cells gx0..gx1 of a grid row are one run of items (in the order cell by cell).
+  for (int gy = gy0; gy <= gy1 && gx0 <= gx1; ++gy)
+  {
+    const size_t row = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_);
+    const int32_t k1 = grid_start_[row + static_cast<size_t>(gx1) + 1];
+    for (int32_t k = grid_start_[row + static_cast<size_t>(gx0)]; k < k1; ++k)
     {
-      const Window& w = win[d];
-      const float mx = b.u + w.sx * w.mid, my = b.v + w.sy * w.mid;
-      const int gx0 = std::max(0, static_cast<int>((mx - w.hx) * inv_cell));
-      const int gx1 = std::min(grid_w_ - 1, static_cast<int>((mx + w.hx) * inv_cell));
-      const int gy0 = std::max(0, static_cast<int>((my - w.hy) * inv_cell));
-      const int gy1 = std::min(grid_h_ - 1, static_cast<int>((my + w.hy) * inv_cell));
-      float best = 1e30f;
-      int best_j = -1;
-      // The cells gx0..gx1 of a grid row are one run of items (in the order cell by cell).
-      for (int gy = gy0; gy <= gy1 && gx0 <= gx1; ++gy)
-      {
-        const size_t row = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_);
-        const int32_t k1 = grid_start_[row + static_cast<size_t>(gx1) + 1];
-        for (int32_t k = grid_start_[row + static_cast<size_t>(gx0)]; k < k1; ++k)
-        {
-          const GridItem& n = grid_items_[static_cast<size_t>(k)];
-          const float dx = n.u - b.u, dy = n.v - b.v;
-          const float a = (dx * w.ax + dy * w.ay) / w.len;
-          const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
-          const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
-          // Selected without a branch: whether a blob lies in the window is a coin toss.
-          const bool take = !(a < amin) & !(a > amax) & !(c > cmax) & (cost < best);
-          best = take ? cost : best;
-          best_j = take ? n.j : best_j;
-        }
-      }
-      b.neighbour[d] = best_j;
+      const GridItem& n = grid_items_[static_cast<size_t>(k)];
+      const float cost = windowCost(n.u - b.u, n.v - b.v, w);
+      // Selected without a branch: whether a blob lies in the window is a coin toss.
+      best_j = cost < best ? n.j : best_j;
+      best = cost < best ? cost : best;
+      if (cost < kNoCost)
+        offer(blobs, n.j, mirrored, i, cost);
     }
+  }
+  return best_j;
+}
+
+void Decoder::offer(std::vector<Blob>& blobs, int n, int d, int i, float cost)
+{
+  // Blob n's own search of window d would have scanned cell by cell, then by index: the first of
+  // equal costs in that order wins.
+  const size_t slot = 2 * static_cast<size_t>(n) + (d == kWest ? 1 : 0);
+  const uint64_t key = (static_cast<uint64_t>(blob_cell_[static_cast<size_t>(i)]) << 32) | static_cast<uint32_t>(i);
+  if (cost < offered_cost_[slot] || (cost == offered_cost_[slot] && key < offered_key_[slot]))
+  {
+    offered_cost_[slot] = cost;
+    offered_key_[slot] = key;
+    blobs[static_cast<size_t>(n)].neighbour[d] = i;
   }
 }
 
@@ -445,7 +463,7 @@ void Decoder::countSupport(const std::vector<Blob>& blobs)
   }
 }
 
-int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const
+inline int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const
 {
   // The candidate that alone has the best support, with enough of it.
   const int32_t k0 = cand_begin_[static_cast<size_t>(blob)], k1 = cand_begin_[static_cast<size_t>(blob) + 1];
@@ -485,7 +503,7 @@ int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming)
   return best;
 }
 
-int Decoder::wordOf(const std::vector<Blob>& blobs, size_t i) const
+inline int Decoder::wordOf(const std::vector<Blob>& blobs, size_t i) const
 {
   const Blob& b = blobs[i];
   int shape[4];
@@ -524,7 +542,7 @@ void Decoder::labelByWords(const std::vector<Blob>& blobs)
   }
 }
 
-void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t confirming)
+inline void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t confirming)
 {
   // Growth: a blob next to decoded ones takes the primitive they imply, if that is one of its
   // candidates at a continuous depth, its shape is confirmed across the epipolar direction, and no
@@ -557,7 +575,7 @@ void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t conf
   grow_.push_back(k);
 }
 
-bool Decoder::applyGrowth()
+inline bool Decoder::applyGrowth()
 {
   for (size_t g = 0; g < grow_.size(); g += 2)
     label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
@@ -606,7 +624,7 @@ void Decoder::correspondByWords(DecodeResult& result)
   finishLabels(result);
 }
 
-void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
+inline void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
 {
   // Growth to blobs without a full word (the pattern's border, gaps): the primitive the decoded
   // neighbours agree on, when the blob's shape and every neighbour's shape are the pattern's
@@ -651,7 +669,7 @@ void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
   }
 }
 
-bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const
+inline bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const
 {
   const std::vector<int>& values = pattern_.array().values();
   int present = 0, mismatches = 0;

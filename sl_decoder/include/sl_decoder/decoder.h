@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -131,7 +133,37 @@ private:
   size_t keepCandidate(int32_t p, const RayApproach& r, size_t used);
   /// Sorts the identified blobs into the neighbour grid (grid_start_, grid_items_).
   void fillGrid(const std::vector<Blob>& blobs);
+  /// A neighbour window: a parallelogram along one direction's step (see findNeighbours()).
+  struct NeighbourWindow
+  {
+    float sx, sy;            // step, px
+    float ax, ay, cx, cy;    // unit along, unit across
+    float len, across;       // step length, length of the across step
+    float amin, amax, cmax;  // accepted along (in steps) and across (in across steps)
+    float mid, hx, hy;       // window centre in steps, bounding-box half size, px
+  };
+  /// The cost of no neighbour: every blob in a window costs less.
+  static constexpr float kNoCost = 1e30f;
+  /// The cost of a blob at (dx, dy) from the centre as the neighbour in window @p w; infinite outside
+  /// the window (NaN for NaN input). Neither ever beats kNoCost.
+  static float windowCost(float dx, float dy, const NeighbourWindow& w)
+  {
+    const float a = (dx * w.ax + dy * w.ay) / w.len;
+    const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
+    const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
+    const bool inside = !(a < w.amin) & !(a > w.amax) & !(c > w.cmax);
+    return inside ? cost : std::numeric_limits<float>::infinity();
+  }
+  /// The four directions' windows, from the pattern's steps and the config.
+  void neighbourWindows(NeighbourWindow* win) const;
+  /// Step 5: each identified blob's nearest blob in each direction's window, or -1.
   void findNeighbours(DecodeResult& result);
+  /// The blob of least windowCost() in window @p w of blob @p i (the first in scan order among
+  /// equals), or -1; offers every blob found to the window of direction @p mirrored.
+  int searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow& w, int mirrored);
+  /// Makes blob @p i blob @p n's neighbour in direction @p d (west or north) if it beats the best
+  /// offered so far at @p cost.
+  void offer(std::vector<Blob>& blobs, int n, int d, int i, float cost);
   /// Step 6 (geometry first): support, the best supported candidate, full words, growth.
   void correspond(DecodeResult& result);
   /// Sets every candidate's support bits: the neighbours that have the adjacent primitive among
@@ -197,6 +229,8 @@ private:
   };
   std::vector<int32_t> grid_start_, grid_fill_;  // CSR offsets per cell, fill positions
   std::vector<GridItem> grid_items_;             // identified blobs, cell by cell
+  std::vector<float> offered_cost_;              // blob * 2 + (west ? 1 : 0) -> cost of the best blob offered
+  std::vector<uint64_t> offered_key_;            // and its scan order: cell << 32 | blob
   std::vector<size_t> blob_cell_;                // blob -> its grid cell (identified blobs)
   std::vector<int32_t> owner_;                   // primitive -> blob, for duplicate detection
   std::vector<int32_t> label_;                   // blob -> candidate index (working copy)

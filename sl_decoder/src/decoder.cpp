@@ -41,6 +41,29 @@ int popcount4(uint8_t bits)
 {
   return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
 }
+
+/// The element at index size / 2 of @p values sorted (reorders them).
+int upperMedian(std::vector<int>& values)
+{
+  // Box sizes are small: counting them is cheaper than a selection (same element: sorted[n / 2]).
+  constexpr int kCounted = 128;
+  const size_t mid = values.size() / 2;
+  const auto range = std::minmax_element(values.begin(), values.end());
+  if (*range.first < 0 || *range.second >= kCounted)
+  {
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
+    return values[mid];
+  }
+  int counts[kCounted] = {};
+  for (const int v : values)
+    ++counts[v];
+  size_t below = 0;
+  int v = 0;
+  for (; below + static_cast<size_t>(counts[v]) <= mid; ++v)
+    below += static_cast<size_t>(counts[v]);
+  return v;
+}
+
 }  // namespace
 
 Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
@@ -181,11 +204,8 @@ void Decoder::sizeMedians(const std::vector<Blob>& blobs, float* median_w, float
     std::vector<int>& hs = sizes_h_[l];
     if (ws.empty())
       continue;
-    const size_t mid = ws.size() / 2;
-    std::nth_element(ws.begin(), ws.begin() + static_cast<long>(mid), ws.end());
-    std::nth_element(hs.begin(), hs.begin() + static_cast<long>(mid), hs.end());
-    median_w[l] = static_cast<float>(ws[mid]);
-    median_h[l] = static_cast<float>(hs[mid]);
+    median_w[l] = static_cast<float>(upperMedian(ws));
+    median_h[l] = static_cast<float>(upperMedian(hs));
   }
 }
 
@@ -355,7 +375,7 @@ void Decoder::findNeighbours(DecodeResult& result)
         blobs[i].neighbour[d] = searchWindow(blobs, static_cast<int>(i), win[d], kOpposite[d]);
 }
 
-int Decoder::searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow& w, int mirrored)
+inline int Decoder::searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow& w, int mirrored)
 {
   const Blob& b = blobs[static_cast<size_t>(i)];
   const float inv_cell = static_cast<float>(1.0 / grid_cell_);
@@ -386,7 +406,7 @@ int Decoder::searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow
   return best_j;
 }
 
-void Decoder::offer(std::vector<Blob>& blobs, int n, int d, int i, float cost)
+inline void Decoder::offer(std::vector<Blob>& blobs, int n, int d, int i, float cost)
 {
   // Blob n's own search of window d would have scanned cell by cell, then by index: the first of
   // equal costs in that order wins.

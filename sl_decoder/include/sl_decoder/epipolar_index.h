@@ -20,8 +20,9 @@ namespace sl_decoder
  *
  * For every primitive, the projector ray through its centroid is traced from min_depth to
  * max_depth and projected into the camera with the full distortion model; the image blocks its
- * curve passes near (within the epipolar tolerance) list the primitive. A blob then looks up its
- * block and checks only those few primitives exactly. Also holds a camera ray map (undistortion
+ * curve passes near (within the epipolar tolerance) list the primitive, grouped by primitive value.
+ * A blob then looks up its block and value and checks only those few primitives exactly. Built once
+ * per rig and config (the decoder's constructor), never per frame. Also holds a camera ray map (undistortion
  * without iteration at run time) and the pattern's average image steps at the nominal depth, which
  * size the neighbour windows. Nothing here assumes a particular rig: resolution, distortion and the
  * side of the projector all come from the calibration.

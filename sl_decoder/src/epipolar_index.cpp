@@ -175,21 +175,4 @@ void EpipolarIndex::storeBlocks(const std::vector<std::vector<int32_t>>& lists, 
           fill[k * shape_slots_ + static_cast<size_t>(std::max(0, values[static_cast<size_t>(p)]))]++)] = p;
 }
 
-Eigen::Vector3d EpipolarIndex::cameraRay(double u, double v) const
-{
-  double fx = u / kRayStep, fy = v / kRayStep;
-  fx = std::min(std::max(fx, 0.0), static_cast<double>(ray_w_ - 1) - 1e-9);
-  fy = std::min(std::max(fy, 0.0), static_cast<double>(ray_h_ - 1) - 1e-9);
-  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
-  const double ax = fx - ix, ay = fy - iy;
-  const size_t w = static_cast<size_t>(ray_w_);
-  const size_t k00 = static_cast<size_t>(iy) * w + static_cast<size_t>(ix);
-  const Eigen::Vector2d& p00 = ray_table_[k00];
-  const Eigen::Vector2d& p10 = ray_table_[k00 + 1];
-  const Eigen::Vector2d& p01 = ray_table_[k00 + w];
-  const Eigen::Vector2d& p11 = ray_table_[k00 + w + 1];
-  const Eigen::Vector2d q = (1 - ay) * ((1 - ax) * p00 + ax * p10) + ay * ((1 - ax) * p01 + ax * p11);
-  return { q.x(), q.y(), 1.0 };
-}
-
 }  // namespace sl_decoder

@@ -3,6 +3,7 @@
 /// @brief Which pattern primitives can appear at an image position: the epipolar constraint of the
 /// calibrated rig as a lookup table (ROS-free).
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -57,6 +58,7 @@ public:
   }
 
   /// @brief Undistorted ray (x/z, y/z, 1) of camera pixel (u, v), bilinear in a fine table.
+  /// (Inline: the decoder calls it per blob.)
   Eigen::Vector3d cameraRay(double u, double v) const;
 
   /// @brief Origin of every projector ray (the projector centre), camera frame, m.
@@ -103,5 +105,22 @@ private:
   bool along_rows_ = true;
   int visible_ = 0;
 };
+
+inline Eigen::Vector3d EpipolarIndex::cameraRay(double u, double v) const
+{
+  double fx = u / kRayStep, fy = v / kRayStep;
+  fx = std::min(std::max(fx, 0.0), static_cast<double>(ray_w_ - 1) - 1e-9);
+  fy = std::min(std::max(fy, 0.0), static_cast<double>(ray_h_ - 1) - 1e-9);
+  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
+  const double ax = fx - ix, ay = fy - iy;
+  const size_t w = static_cast<size_t>(ray_w_);
+  const size_t k00 = static_cast<size_t>(iy) * w + static_cast<size_t>(ix);
+  const Eigen::Vector2d& p00 = ray_table_[k00];
+  const Eigen::Vector2d& p10 = ray_table_[k00 + 1];
+  const Eigen::Vector2d& p01 = ray_table_[k00 + w];
+  const Eigen::Vector2d& p11 = ray_table_[k00 + w + 1];
+  const Eigen::Vector2d q = (1 - ay) * ((1 - ax) * p00 + ax * p10) + ay * ((1 - ax) * p01 + ax * p11);
+  return { q.x(), q.y(), 1.0 };
+}
 
 }  // namespace sl_decoder

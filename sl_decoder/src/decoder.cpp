@@ -41,6 +41,29 @@ int popcount4(uint8_t bits)
 {
   return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
 }
+
+/// The element at index size / 2 of @p values sorted (reorders them).
+int upperMedian(std::vector<int>& values)
+{
+  // Box sizes are small: counting them is cheaper than a selection (same element: sorted[n / 2]).
+  constexpr int kCounted = 128;
+  const size_t mid = values.size() / 2;
+  const auto range = std::minmax_element(values.begin(), values.end());
+  if (*range.first < 0 || *range.second >= kCounted)
+  {
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
+    return values[mid];
+  }
+  int counts[kCounted] = {};
+  for (const int v : values)
+    ++counts[v];
+  size_t below = 0;
+  int v = 0;
+  for (; below + static_cast<size_t>(counts[v]) <= mid; ++v)
+    below += static_cast<size_t>(counts[v]);
+  return v;
+}
+
 }  // namespace
 
 Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
@@ -67,6 +90,7 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
     words_.reset();  // a pattern whose words repeat decodes from candidates and support alone
   }
   owner_.assign(cells, -1);
+  preparePrimitives();
   // A primitive's box in the image: its share of the pattern's cell, scaled by the local steps.
   const sl_projector::PatternConfig& pc = rig.pattern;
   detector_.setPrimitiveSize(index_->stepEast().norm() * pc.primitive_width / pc.cellWidth(),
@@ -79,6 +103,29 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
 }
 
 Decoder::~Decoder() = default;
+
+void Decoder::preparePrimitives()
+{
+  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
+  const size_t n = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  edges_.assign(n, 0);
+  dir_dot_origin_.resize(n);
+  for (int d = 0; d < 4; ++d)
+    adjacent_step_[d] = kDRow[d] * cols + kDCol[d];
+  const Eigen::Vector3d& o = index_->projectorOrigin();
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+    {
+      const size_t p = static_cast<size_t>(r) * static_cast<size_t>(cols) + static_cast<size_t>(c);
+      for (int d = 0; d < 4; ++d)
+      {
+        const int rr = r + kDRow[d], cc = c + kDCol[d];
+        if (rr >= 0 && cc >= 0 && rr < rows && cc < cols)
+          edges_[p] |= static_cast<uint8_t>(1 << d);
+      }
+      dir_dot_origin_[p] = index_->projectorDirection(static_cast<int>(p)).dot(o);
+    }
+}
 
 void Decoder::decode(const cv::Mat& image, DecodeResult& result)
 {
@@ -137,125 +184,148 @@ void Decoder::placeBandCell(Blob& b) const
   b.v += static_cast<float>(offset * index_->stepSouth().y() / pc.cellHeight());
 }
 
-void Decoder::findCandidates(DecodeResult& result)
+void Decoder::sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h)
 {
-  const int cols = rig_.pattern.cols;
-  const std::vector<int>& values = pattern_.array().values();
-  const Eigen::Vector3d& o = index_->projectorOrigin();
-  const double fx = rig_.camera.fx;
-  cand_begin_.resize(result.blobs.size() + 1);
-  cands_.clear();
-  // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
-  // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
-  // Blobs split out of merged components were cut at a raised threshold: each level has its own
-  // typical size.
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
     sizes_w_[l].clear();
     sizes_h_[l].clear();
   }
-  auto levelOf = [](const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); };
-  for (const Blob& b : result.blobs)
+  for (const Blob& b : blobs)
     if (b.shape > 0)
     {
       sizes_w_[levelOf(b)].push_back(b.width());
       sizes_h_[levelOf(b)].push_back(b.height());
     }
-  float median_w[kSizeLevels] = {}, median_h[kSizeLevels] = {};
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
+    median_w[l] = median_h[l] = 0.f;
     std::vector<int>& ws = sizes_w_[l];
     std::vector<int>& hs = sizes_h_[l];
     if (ws.empty())
       continue;
-    const size_t mid = ws.size() / 2;
-    std::nth_element(ws.begin(), ws.begin() + static_cast<long>(mid), ws.end());
-    std::nth_element(hs.begin(), hs.begin() + static_cast<long>(mid), hs.end());
-    median_w[l] = static_cast<float>(ws[mid]);
-    median_h[l] = static_cast<float>(hs[mid]);
+    median_w[l] = static_cast<float>(upperMedian(ws));
+    median_h[l] = static_cast<float>(upperMedian(hs));
   }
-  const float dev = static_cast<float>(config_.max_size_deviation);
-  for (size_t bi = 0; bi < result.blobs.size(); ++bi)
-  {
-    cand_begin_[bi] = static_cast<int32_t>(cands_.size());
-    const Blob& b = result.blobs[bi];
-    if (b.shape == 0)
-      continue;
-    // One pixel of slack: boxes are whole pixels.
-    const float mw = median_w[levelOf(b)], mh = median_h[levelOf(b)];
-    if (std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
-        std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f)
-      continue;
-    const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);
-    const Eigen::Vector3d d1 = ray.normalized();
-    const double d1o = d1.dot(o);
-    const int32_t *it, *end;
-    index_->candidates(b.u, b.v, it, end);
-    for (; it != end; ++it)
-    {
-      const int32_t p = *it;
-      if (values[static_cast<size_t>(p)] != b.shape)
-        continue;
-      // Closest approach of the camera ray and the projector ray of primitive p.
-      const Eigen::Vector3d& d2 = index_->projectorDirection(p);
-      const double c = d1.dot(d2);
-      const double denom = 1.0 - c * c;
-      if (denom < 1e-12)
-        continue;
-      const double d2o = d2.dot(o);
-      const double s = (d1o - c * d2o) / denom;
-      const double u = (c * d1o - d2o) / denom;
-      const double z = s * d1.z();
-      if (z < config_.min_depth || z > config_.max_depth || u <= 0.0)
-        continue;
-      const double gap = (s * d1 - (o + u * d2)).norm();
-      const double epipolar_px = gap / z * fx;  // the gap seen from the camera, in pixels
-      // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
-      // a partial occlusion may push the true primitive just outside the tolerance while a wrong
-      // one along the same epipolar curve stays inside; such a blob must stay undecided.
-      if (epipolar_px > 2.0 * config_.epipolar_tolerance)
-        continue;
-      cands_.push_back(Candidate{ p, static_cast<float>(z), static_cast<float>(epipolar_px), 0,
-                                  epipolar_px <= config_.epipolar_tolerance });
-    }
-    (void)cols;
-  }
-  cand_begin_[result.blobs.size()] = static_cast<int32_t>(cands_.size());
 }
 
-void Decoder::findNeighbours(DecodeResult& result)
+void Decoder::findCandidates(DecodeResult& result)
 {
-  std::vector<Blob>& blobs = result.blobs;
+  const std::vector<Blob>& blobs = result.blobs;
+  cand_begin_.resize(blobs.size() + 1);
+  rays_.resize(blobs.size());
+  units_.resize(blobs.size());
+  typical_.resize(blobs.size());
+  // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
+  // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
+  // Blobs split out of merged components were cut at a raised threshold: each level has its own
+  // typical size.
+  float median_w[kSizeLevels], median_h[kSizeLevels];
+  sizeMedians(blobs, median_w, median_h);
+  const float dev = static_cast<float>(config_.max_size_deviation);
+  // First every blob's camera ray, then the candidates: a ray's interpolation and normalisation
+  // ahead of each blob's candidates made one long dependent chain per blob.
+  for (size_t bi = 0; bi < blobs.size(); ++bi)
+  {
+    const Blob& b = blobs[bi];
+    // One pixel of slack: boxes are whole pixels.
+    const float mw = median_w[levelOf(b)], mh = median_h[levelOf(b)];
+    typical_[bi] = b.shape != 0 && !(std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
+                                     std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f);
+    if (!typical_[bi])
+      continue;
+    rays_[bi] = index_->cameraRay(b.u, b.v);
+    units_[bi] = rays_[bi].normalized();
+  }
+  size_t used = 0;  // cands_ is a buffer: its first `used` entries are this frame's
+  for (size_t bi = 0; bi < blobs.size(); ++bi)
+  {
+    cand_begin_[bi] = static_cast<int32_t>(used);
+    if (typical_[bi])
+      used = appendCandidates(blobs[bi], units_[bi], used);
+  }
+  cand_begin_[blobs.size()] = static_cast<int32_t>(used);
+  cands_.resize(used);
+}
+
+// Inline (only this file calls it): an exported member is not inlined in a shared library.
+inline size_t Decoder::keepCandidate(int32_t p, const RayApproach& r, size_t used)
+{
+  // Candidates up to twice the tolerance are kept to compete: a centroid biased by texture or
+  // a partial occlusion may push the true primitive just outside the tolerance while a wrong
+  // one along the same epipolar curve stays inside; such a blob must stay undecided.
+  // The slot is written whatever the outcome and kept or not without a branch: the outcome is
+  // known only at the end of a long chain of divisions, and a mispredicted branch waited for it.
+  const bool rejected = (r.denom < 1e-12) | (r.z < config_.min_depth) | (r.z > config_.max_depth) | (r.u <= 0.0) |
+                        (r.epipolar_px > 2.0 * config_.epipolar_tolerance);
+  Candidate& k = cands_[used];
+  k.primitive = p;
+  k.depth = static_cast<float>(r.z);
+  k.epipolar = static_cast<float>(r.epipolar_px);
+  k.bits = 0;
+  k.tight = r.epipolar_px <= config_.epipolar_tolerance;
+  k.edges = edges_[static_cast<size_t>(p)];
+  cand_z_[used] = r.z;
+  return used + !rejected;
+}
+
+inline size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used)
+{
+  CameraRayTerms cam;
+  cam.o = index_->projectorOrigin();
+  cam.fx = rig_.camera.fx;
+  cam.d1 = unit;
+  cam.d1o = cam.d1.dot(cam.o);
+  const int32_t *it, *end;
+  index_->candidates(b.u, b.v, b.shape, it, end);
+  if (cands_.size() < used + static_cast<size_t>(end - it))
+  {
+    cands_.resize(std::max(cands_.capacity(), used + static_cast<size_t>(end - it)));  // no allocation once warm
+    cand_z_.resize(cands_.size());
+  }
+  // Two primitives at a time (the divisions and square roots are most of the work).
+  RayApproach ra, rb;
+  for (; end - it >= 2; it += 2)
+  {
+    rayApproach2(cam, index_->projectorDirection(it[0]), dir_dot_origin_[static_cast<size_t>(it[0])],
+                 index_->projectorDirection(it[1]), dir_dot_origin_[static_cast<size_t>(it[1])], ra, rb);
+    used = keepCandidate(it[0], ra, used);
+    used = keepCandidate(it[1], rb, used);
+  }
+  if (it != end)
+    used = keepCandidate(
+        *it, rayApproach(cam, index_->projectorDirection(*it), dir_dot_origin_[static_cast<size_t>(*it)]), used);
+  return used;
+}
+
+void Decoder::fillGrid(const std::vector<Blob>& blobs)
+{
   const size_t cells = grid_cells_;
   grid_start_.assign(cells + 1, 0);
-  auto cellOf = [&](const Blob& b)
+  blob_cell_.resize(blobs.size());
+  // Counting sort of identified blobs into grid cells, each with its centroid (a compact copy).
+  for (size_t i = 0; i < blobs.size(); ++i)
   {
+    const Blob& b = blobs[i];
+    if (b.shape == 0)
+      continue;
     const int gx = std::min(grid_w_ - 1, std::max(0, static_cast<int>(b.u / grid_cell_)));
     const int gy = std::min(grid_h_ - 1, std::max(0, static_cast<int>(b.v / grid_cell_)));
-    return static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
-  };
-  // Counting sort of identified blobs into grid cells.
-  for (const Blob& b : blobs)
-    if (b.shape > 0)
-      ++grid_start_[cellOf(b) + 1];
+    blob_cell_[i] = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
+    ++grid_start_[blob_cell_[i] + 1];
+  }
   for (size_t k = 0; k < cells; ++k)
     grid_start_[k + 1] += grid_start_[k];
   grid_items_.resize(static_cast<size_t>(grid_start_[cells]));
   grid_fill_.assign(grid_start_.begin(), grid_start_.end() - 1);
   for (size_t i = 0; i < blobs.size(); ++i)
     if (blobs[i].shape > 0)
-      grid_items_[static_cast<size_t>(grid_fill_[cellOf(blobs[i])]++)] = static_cast<int32_t>(i);
+      grid_items_[static_cast<size_t>(grid_fill_[blob_cell_[i]]++)] =
+          GridItem{ blobs[i].u, blobs[i].v, static_cast<int32_t>(i) };
+}
 
-  // Each direction's window is a parallelogram around the expected position; only the grid cells
-  // under its bounding box are visited.
-  struct Window
-  {
-    float sx, sy;          // step, px
-    float ax, ay, cx, cy;  // unit along, unit across
-    float len, across;     // step length, length of the across step
-    float mid, hx, hy;     // window centre in steps, bounding-box half size, px
-  };
-  Window win[4];
+void Decoder::neighbourWindows(NeighbourWindow* win) const
+{
   const Eigen::Vector2d steps[4] = { -index_->stepSouth(), -index_->stepEast(), index_->stepSouth(),
                                      index_->stepEast() };
   const double across_len[4] = { index_->stepEast().norm(), index_->stepSouth().norm(), index_->stepEast().norm(),
@@ -265,7 +335,7 @@ void Decoder::findNeighbours(DecodeResult& result)
   const float cmax = static_cast<float>(config_.neighbour_across);
   for (int d = 0; d < 4; ++d)
   {
-    Window& w = win[d];
+    NeighbourWindow& w = win[d];
     w.sx = static_cast<float>(steps[d].x());
     w.sy = static_cast<float>(steps[d].y());
     w.len = static_cast<float>(steps[d].norm());
@@ -274,68 +344,80 @@ void Decoder::findNeighbours(DecodeResult& result)
     w.cx = -w.ay;
     w.cy = w.ax;
     w.across = static_cast<float>(across_len[d]);
+    w.amin = amin;
+    w.amax = amax;
+    w.cmax = cmax;
     w.mid = 0.5f * (amin + amax);
     const float ea = 0.5f * (amax - amin) * w.len, ec = cmax * w.across;
     w.hx = std::abs(w.ax) * ea + std::abs(w.cx) * ec;
     w.hy = std::abs(w.ay) * ea + std::abs(w.cy) * ec;
   }
-  const float inv_cell = static_cast<float>(1.0 / grid_cell_);
-  for (size_t i = 0; i < blobs.size(); ++i)
-  {
-    Blob& b = blobs[i];
+}
+
+void Decoder::findNeighbours(DecodeResult& result)
+{
+  std::vector<Blob>& blobs = result.blobs;
+  fillGrid(blobs);
+  NeighbourWindow win[4];
+  neighbourWindows(win);
+  // Only the south and east windows are searched. The west and north ones follow: the windows of
+  // opposite directions are mirror images, so blob n lies in blob i's east window at cost C exactly
+  // (bit for bit) when i lies in n's west window at cost C. Each blob found in a searched window is
+  // offered to the mirrored one (offered_cost_, offered_key_).
+  for (Blob& b : blobs)
     for (int d = 0; d < 4; ++d)
       b.neighbour[d] = -1;
-    if (b.shape == 0)
-      continue;
-    for (int d = 0; d < 4; ++d)
+  offered_cost_.assign(2 * blobs.size(), kNoCost);
+  offered_key_.resize(2 * blobs.size());
+  for (size_t i = 0; i < blobs.size(); ++i)
+    if (blobs[i].shape > 0)
+      for (const int d : { kSouth, kEast })
+        blobs[i].neighbour[d] = searchWindow(blobs, static_cast<int>(i), win[d], kOpposite[d]);
+}
+
+inline int Decoder::searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow& w, int mirrored)
+{
+  const Blob& b = blobs[static_cast<size_t>(i)];
+  const float inv_cell = static_cast<float>(1.0 / grid_cell_);
+  // The grid cells under the window's bounding box.
+  const float mx = b.u + w.sx * w.mid, my = b.v + w.sy * w.mid;
+  const int gx0 = std::max(0, static_cast<int>((mx - w.hx) * inv_cell));
+  const int gx1 = std::min(grid_w_ - 1, static_cast<int>((mx + w.hx) * inv_cell));
+  const int gy0 = std::max(0, static_cast<int>((my - w.hy) * inv_cell));
+  const int gy1 = std::min(grid_h_ - 1, static_cast<int>((my + w.hy) * inv_cell));
+  float best = kNoCost;
+  int best_j = -1;
+  // The cells gx0..gx1 of a grid row are one run of items (in the order cell by cell).
+  for (int gy = gy0; gy <= gy1 && gx0 <= gx1; ++gy)
+  {
+    const size_t row = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_);
+    const int32_t k1 = grid_start_[row + static_cast<size_t>(gx1) + 1];
+    for (int32_t k = grid_start_[row + static_cast<size_t>(gx0)]; k < k1; ++k)
     {
-      const Window& w = win[d];
-      const float mx = b.u + w.sx * w.mid, my = b.v + w.sy * w.mid;
-      const int gx0 = std::max(0, static_cast<int>((mx - w.hx) * inv_cell));
-      const int gx1 = std::min(grid_w_ - 1, static_cast<int>((mx + w.hx) * inv_cell));
-      const int gy0 = std::max(0, static_cast<int>((my - w.hy) * inv_cell));
-      const int gy1 = std::min(grid_h_ - 1, static_cast<int>((my + w.hy) * inv_cell));
-      float best = 1e30f;
-      int best_j = -1;
-      for (int gy = gy0; gy <= gy1; ++gy)
-        for (int gx = gx0; gx <= gx1; ++gx)
-        {
-          const size_t cell = static_cast<size_t>(gy) * static_cast<size_t>(grid_w_) + static_cast<size_t>(gx);
-          for (int32_t k = grid_start_[cell]; k < grid_start_[cell + 1]; ++k)
-          {
-            const int32_t j = grid_items_[static_cast<size_t>(k)];
-            const Blob& n = blobs[static_cast<size_t>(j)];
-            const float dx = n.u - b.u, dy = n.v - b.v;
-            const float a = (dx * w.ax + dy * w.ay) / w.len;
-            const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
-            if (a < amin || a > amax || c > cmax)
-              continue;
-            const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
-            if (cost < best)
-            {
-              best = cost;
-              best_j = j;
-            }
-          }
-        }
-      b.neighbour[d] = best_j;
+      const GridItem& n = grid_items_[static_cast<size_t>(k)];
+      const float cost = windowCost(n.u - b.u, n.v - b.v, w);
+      // Selected without a branch: whether a blob lies in the window is a coin toss.
+      best_j = cost < best ? n.j : best_j;
+      best = cost < best ? cost : best;
+      if (cost < kNoCost)
+        offer(blobs, n.j, mirrored, i, cost);
     }
   }
+  return best_j;
 }
 
-int Decoder::findCandidate(int blob, int primitive) const
+inline void Decoder::offer(std::vector<Blob>& blobs, int n, int d, int i, float cost)
 {
-  for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < cand_begin_[static_cast<size_t>(blob) + 1]; ++k)
-    if (cands_[static_cast<size_t>(k)].primitive == primitive)
-      return static_cast<int>(k);
-  return -1;
-}
-
-int Decoder::adjacent(int p, int d) const
-{
-  const int rows = rig_.pattern.rows, cols = rig_.pattern.cols;
-  const int r = p / cols + kDRow[d], c = p % cols + kDCol[d];
-  return (r < 0 || c < 0 || r >= rows || c >= cols) ? -1 : r * cols + c;
+  // Blob n's own search of window d would have scanned cell by cell, then by index: the first of
+  // equal costs in that order wins.
+  const size_t slot = 2 * static_cast<size_t>(n) + (d == kWest ? 1 : 0);
+  const uint64_t key = (static_cast<uint64_t>(blob_cell_[static_cast<size_t>(i)]) << 32) | static_cast<uint32_t>(i);
+  if (cost < offered_cost_[slot] || (cost == offered_cost_[slot] && key < offered_key_[slot]))
+  {
+    offered_cost_[slot] = cost;
+    offered_key_[slot] = key;
+    blobs[static_cast<size_t>(n)].neighbour[d] = i;
+  }
 }
 
 void Decoder::correspond(DecodeResult& result)
@@ -374,23 +456,34 @@ void Decoder::countSupport(const std::vector<Blob>& blobs)
   // depth. Only a neighbour whose own geometry fits (a tight candidate) lends support.
   const float step = static_cast<float>(config_.max_depth_step);
   for (size_t i = 0; i < blobs.size(); ++i)
-    for (int32_t k = cand_begin_[i]; k < cand_begin_[i + 1]; ++k)
+  {
+    const int32_t k0 = cand_begin_[i], k1 = cand_begin_[i + 1];
+    for (int32_t k = k0; k < k1; ++k)
+      cands_[static_cast<size_t>(k)].bits = 0;
+    for (int d = 0; d < 4 && k0 != k1; ++d)
     {
-      Candidate& c = cands_[static_cast<size_t>(k)];
-      c.bits = 0;
-      for (int d = 0; d < 4; ++d)
+      const int n = blobs[i].neighbour[d];
+      if (n < 0)
+        continue;
+      // The neighbour's few candidates are scanned whole, without early exits (they mispredicted);
+      // a blob lists each primitive at most once, so the match found is findCandidate's.
+      const int32_t j0 = cand_begin_[static_cast<size_t>(n)], j1 = cand_begin_[static_cast<size_t>(n) + 1];
+      for (int32_t k = k0; k < k1; ++k)
       {
-        const int n = blobs[i].neighbour[d];
-        const int q = adjacent(c.primitive, d);
-        const int kn = n >= 0 && q >= 0 ? findCandidate(n, q) : -1;
-        if (kn >= 0 && cands_[static_cast<size_t>(kn)].tight &&
-            std::abs(cands_[static_cast<size_t>(kn)].depth - c.depth) <= step * c.depth)
-          c.bits |= static_cast<uint8_t>(1 << d);
+        Candidate& c = cands_[static_cast<size_t>(k)];
+        const int q = ((c.edges >> d) & 1) ? c.primitive + adjacent_step_[d] : -1;
+        int32_t kn = k;  // a stand-in that never supports: it is not q
+        for (int32_t j = j0; j < j1; ++j)
+          kn = cands_[static_cast<size_t>(j)].primitive == q ? j : kn;
+        const Candidate& m = cands_[static_cast<size_t>(kn)];
+        const bool support = (kn != k) & m.tight & (std::abs(m.depth - c.depth) <= step * c.depth);
+        c.bits |= static_cast<uint8_t>(support << d);
       }
     }
+  }
 }
 
-int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const
+inline int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming) const
 {
   // The candidate that alone has the best support, with enough of it.
   const int32_t k0 = cand_begin_[static_cast<size_t>(blob)], k1 = cand_begin_[static_cast<size_t>(blob) + 1];
@@ -430,7 +523,7 @@ int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t confirming)
   return best;
 }
 
-int Decoder::wordOf(const std::vector<Blob>& blobs, size_t i) const
+inline int Decoder::wordOf(const std::vector<Blob>& blobs, size_t i) const
 {
   const Blob& b = blobs[i];
   int shape[4];
@@ -469,7 +562,7 @@ void Decoder::labelByWords(const std::vector<Blob>& blobs)
   }
 }
 
-void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t confirming)
+inline void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t confirming)
 {
   // Growth: a blob next to decoded ones takes the primitive they imply, if that is one of its
   // candidates at a continuous depth, its shape is confirmed across the epipolar direction, and no
@@ -502,7 +595,7 @@ void Decoder::growByGeometry(const std::vector<Blob>& blobs, int i, uint8_t conf
   grow_.push_back(k);
 }
 
-bool Decoder::applyGrowth()
+inline bool Decoder::applyGrowth()
 {
   for (size_t g = 0; g < grow_.size(); g += 2)
     label_[static_cast<size_t>(grow_[g])] = grow_[g + 1];
@@ -551,7 +644,7 @@ void Decoder::correspondByWords(DecodeResult& result)
   finishLabels(result);
 }
 
-void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
+inline void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
 {
   // Growth to blobs without a full word (the pattern's border, gaps): the primitive the decoded
   // neighbours agree on, when the blob's shape and every neighbour's shape are the pattern's
@@ -596,7 +689,7 @@ void Decoder::growByWords(const std::vector<Blob>& blobs, int i)
   }
 }
 
-bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const
+inline bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const
 {
   const std::vector<int>& values = pattern_.array().values();
   int present = 0, mismatches = 0;
@@ -705,7 +798,6 @@ void Decoder::finishLabels(DecodeResult& result)
 void Decoder::computeDepth(DecodeResult& result)
 {
   const int cols = rig_.pattern.cols;
-  const Eigen::Vector3d& o = index_->projectorOrigin();
   for (size_t i = 0; i < result.blobs.size(); ++i)
   {
     Blob& b = result.blobs[i];
@@ -713,19 +805,13 @@ void Decoder::computeDepth(DecodeResult& result)
     if (!b.decoded())
       continue;
     const int p = b.row * cols + b.col;
-    const Eigen::Vector3d ray = index_->cameraRay(b.u, b.v);  // z = 1
+    const Eigen::Vector3d& ray = rays_[i];  // cameraRay(b.u, b.v), z = 1: decoded blobs had candidates
     double z = std::numeric_limits<double>::quiet_NaN();
     switch (config_.depth_mode)
     {
       case DepthMode::Triangulation:
-      {
-        const Eigen::Vector3d d1 = ray.normalized();
-        const Eigen::Vector3d& d2 = index_->projectorDirection(p);
-        const double c = d1.dot(d2);
-        const double s = (d1.dot(o) - c * d2.dot(o)) / (1.0 - c * c);
-        z = s * d1.z();
+        z = cand_z_[static_cast<size_t>(label_[i])];  // the ray-ray approach of the candidate's test
         break;
-      }
       case DepthMode::Rational:
       {
         const sl_projector::DepthModel& m = rig_.tables.rational[static_cast<size_t>(p)];

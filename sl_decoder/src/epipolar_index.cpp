@@ -147,13 +147,7 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
       dir_sum += (b - a).normalized();
     }
   }
-  block_start_.resize(blocks + 1);
-  block_start_[0] = 0;
-  for (size_t k = 0; k < blocks; ++k)
-    block_start_[k + 1] = block_start_[k] + static_cast<int32_t>(lists[k].size());
-  entries_.resize(static_cast<size_t>(block_start_[blocks]));
-  for (size_t k = 0; k < blocks; ++k)
-    std::copy(lists[k].begin(), lists[k].end(), entries_.begin() + block_start_[k]);
+  storeBlocks(lists, pattern.array().values());
 
   // Do epipolar curves run along the pattern's rows or its columns?
   const Eigen::Vector2d e = step_east_.normalized(), s = step_south_.normalized();
@@ -161,21 +155,24 @@ EpipolarIndex::EpipolarIndex(const sl_projector::Rig& rig, const DecoderConfig& 
   along_rows_ = std::abs(d.dot(e)) >= std::abs(d.dot(s));
 }
 
-Eigen::Vector3d EpipolarIndex::cameraRay(double u, double v) const
+void EpipolarIndex::storeBlocks(const std::vector<std::vector<int32_t>>& lists, const std::vector<int>& values)
 {
-  double fx = u / kRayStep, fy = v / kRayStep;
-  fx = std::min(std::max(fx, 0.0), static_cast<double>(ray_w_ - 1) - 1e-9);
-  fy = std::min(std::max(fy, 0.0), static_cast<double>(ray_h_ - 1) - 1e-9);
-  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
-  const double ax = fx - ix, ay = fy - iy;
-  const size_t w = static_cast<size_t>(ray_w_);
-  const size_t k00 = static_cast<size_t>(iy) * w + static_cast<size_t>(ix);
-  const Eigen::Vector2d& p00 = ray_table_[k00];
-  const Eigen::Vector2d& p10 = ray_table_[k00 + 1];
-  const Eigen::Vector2d& p01 = ray_table_[k00 + w];
-  const Eigen::Vector2d& p11 = ray_table_[k00 + w + 1];
-  const Eigen::Vector2d q = (1 - ay) * ((1 - ax) * p00 + ax * p10) + ay * ((1 - ax) * p01 + ax * p11);
-  return { q.x(), q.y(), 1.0 };
+  // One CSR range per (block, value): a blob looks up only the primitives of its own shape.
+  const int max_value = values.empty() ? 0 : *std::max_element(values.begin(), values.end());
+  shape_slots_ = static_cast<size_t>(std::max(0, max_value)) + 1;
+  const size_t ranges = lists.size() * shape_slots_;
+  block_start_.assign(ranges + 1, 0);
+  for (size_t k = 0; k < lists.size(); ++k)
+    for (const int32_t p : lists[k])
+      ++block_start_[k * shape_slots_ + static_cast<size_t>(std::max(0, values[static_cast<size_t>(p)])) + 1];
+  for (size_t r = 0; r < ranges; ++r)
+    block_start_[r + 1] += block_start_[r];
+  entries_.resize(static_cast<size_t>(block_start_[ranges]));
+  std::vector<int32_t> fill(block_start_.begin(), block_start_.end() - 1);
+  for (size_t k = 0; k < lists.size(); ++k)
+    for (const int32_t p : lists[k])
+      entries_[static_cast<size_t>(
+          fill[k * shape_slots_ + static_cast<size_t>(std::max(0, values[static_cast<size_t>(p)]))]++)] = p;
 }
 
 }  // namespace sl_decoder

@@ -2,8 +2,11 @@
 /// @file decoder.h
 /// @brief The decoding pipeline: camera image to decoded primitives with 3D points (ROS-free).
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +17,7 @@
 #include "sl_decoder/blob_detector.h"
 #include "sl_decoder/decoder_config.h"
 #include "sl_decoder/epipolar_index.h"
+#include "sl_decoder/ray_approach.h"
 #include "sl_decoder/shape_classifier.h"
 #include "sl_projector/pattern.h"
 #include "sl_projector/word_table.h"
@@ -108,12 +112,58 @@ private:
     float epipolar;  // px
     uint8_t bits;    // consistent neighbours, bit d for Direction d
     bool tight;      // within the epipolar tolerance (others, within twice it, only compete)
+    uint8_t edges;   // bit d: the pattern has a primitive next to this one in Direction d
   };
 
+  /// Fills the per-primitive tables (edges_, adjacent_step_, dir_dot_origin_) once for the rig.
+  void preparePrimitives();
   /// Maps a cell read from a saturated band's outline into pattern terms and moves it to its centroid.
   void placeBandCell(Blob& b) const;
+  /// Step 4: the candidates of every blob of typical size (cand_begin_, cands_, rays_).
   void findCandidates(DecodeResult& result);
+  /// The median box width and height of the identified blobs of each level (0 for none).
+  void sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h);
+  /// Blob level -> the index of its size statistics.
+  static size_t levelOf(const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); }
+  /// Writes the candidates of blob @p b (unit camera ray @p unit) into cands_ from @p used on,
+  /// growing the buffer as needed; returns the new count.
+  size_t appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used);
+  /// Writes candidate @p p with approach @p r into slot @p used; returns @p used + 1 when it is
+  /// one (in the depth range, within twice the epipolar tolerance), else @p used.
+  size_t keepCandidate(int32_t p, const RayApproach& r, size_t used);
+  /// Sorts the identified blobs into the neighbour grid (grid_start_, grid_items_).
+  void fillGrid(const std::vector<Blob>& blobs);
+  /// A neighbour window: a parallelogram along one direction's step (see findNeighbours()).
+  struct NeighbourWindow
+  {
+    float sx, sy;            // step, px
+    float ax, ay, cx, cy;    // unit along, unit across
+    float len, across;       // step length, length of the across step
+    float amin, amax, cmax;  // accepted along (in steps) and across (in across steps)
+    float mid, hx, hy;       // window centre in steps, bounding-box half size, px
+  };
+  /// The cost of no neighbour: every blob in a window costs less.
+  static constexpr float kNoCost = 1e30f;
+  /// The cost of a blob at (dx, dy) from the centre as the neighbour in window @p w; infinite outside
+  /// the window (NaN for NaN input). Neither ever beats kNoCost.
+  static float windowCost(float dx, float dy, const NeighbourWindow& w)
+  {
+    const float a = (dx * w.ax + dy * w.ay) / w.len;
+    const float c = std::abs(dx * w.cx + dy * w.cy) / w.across;
+    const float cost = (a - 1.f) * (a - 1.f) * w.len * w.len + c * c * w.across * w.across;
+    const bool inside = !(a < w.amin) & !(a > w.amax) & !(c > w.cmax);
+    return inside ? cost : std::numeric_limits<float>::infinity();
+  }
+  /// The four directions' windows, from the pattern's steps and the config.
+  void neighbourWindows(NeighbourWindow* win) const;
+  /// Step 5: each identified blob's nearest blob in each direction's window, or -1.
   void findNeighbours(DecodeResult& result);
+  /// The blob of least windowCost() in window @p w of blob @p i (the first in scan order among
+  /// equals), or -1; offers every blob found to the window of direction @p mirrored.
+  int searchWindow(std::vector<Blob>& blobs, int i, const NeighbourWindow& w, int mirrored);
+  /// Makes blob @p i blob @p n's neighbour in direction @p d (west or north) if it beats the best
+  /// offered so far at @p cost.
+  void offer(std::vector<Blob>& blobs, int n, int d, int i, float cost);
   /// Step 6 (geometry first): support, the best supported candidate, full words, growth.
   void correspond(DecodeResult& result);
   /// Sets every candidate's support bits: the neighbours that have the adjacent primitive among
@@ -141,10 +191,17 @@ private:
   /// @p primitive: six with no exception or nine with one.
   bool rowSpellsPattern(const std::vector<Blob>& blobs, int i, int primitive) const;
   static constexpr int kRowCheck = 4;
-  /// The candidate of @p blob for @p primitive, or -1.
-  int findCandidate(int blob, int primitive) const;
-  /// The primitive adjacent to @p p in direction @p d, or -1 outside the pattern.
-  int adjacent(int p, int d) const;
+  /// The candidate of @p blob for @p primitive, or -1 (inline: the correspondence's inner loop).
+  int findCandidate(int blob, int primitive) const
+  {
+    const int32_t k1 = cand_begin_[static_cast<size_t>(blob) + 1];
+    for (int32_t k = cand_begin_[static_cast<size_t>(blob)]; k < k1; ++k)
+      if (cands_[static_cast<size_t>(k)].primitive == primitive)
+        return static_cast<int>(k);
+    return -1;
+  }
+  /// The primitive adjacent to @p p (a primitive) in direction @p d, or -1 outside the pattern.
+  int adjacent(int p, int d) const { return (edges_[static_cast<size_t>(p)] >> d) & 1 ? p + adjacent_step_[d] : -1; }
   void computeDepth(DecodeResult& result);
 
   sl_projector::Rig rig_;
@@ -154,15 +211,32 @@ private:
   std::unique_ptr<sl_projector::WordTable> words_;  // null when the pattern's words repeat
   BlobDetector detector_;
   ShapeClassifier classifier_;
+  // Per-primitive geometry, fixed for the rig.
+  std::vector<uint8_t> edges_;          // Candidate::edges of each primitive
+  int adjacent_step_[4] = {};           // index step to the adjacent primitive per Direction
+  std::vector<double> dir_dot_origin_;  // projectorDirection(p) . projectorOrigin()
   // Per-frame work buffers.
   std::vector<int32_t> cand_begin_;  // blobs + 1
   std::vector<Candidate> cands_;
-  std::vector<int32_t> grid_start_, grid_items_, grid_fill_;
-  std::vector<int32_t> owner_;              // primitive -> blob, for duplicate detection
-  std::vector<int32_t> label_;              // blob -> candidate index (working copy)
-  std::vector<int32_t> grow_;               // (blob, candidate) pairs decoded in a growth round
-  std::vector<int32_t> word_;               // blob -> primitive its full word names, or -1 (identify_by_words)
-  static constexpr size_t kSizeLevels = 8;  // Blob::level values with their own median (more share the last)
+  std::vector<double> cand_z_;          // candidate -> its depth as computed (the triangulated depth)
+  std::vector<Eigen::Vector3d> rays_;   // blob -> cameraRay of its centroid (typical_ blobs)
+  std::vector<Eigen::Vector3d> units_;  // blob -> that ray normalised (typical_ blobs)
+  std::vector<uint8_t> typical_;        // blob -> identified and of typical size: has candidates
+  struct GridItem
+  {
+    float u, v;  // the blob's centroid, px
+    int32_t j;   // the blob
+  };
+  std::vector<int32_t> grid_start_, grid_fill_;  // CSR offsets per cell, fill positions
+  std::vector<GridItem> grid_items_;             // identified blobs, cell by cell
+  std::vector<float> offered_cost_;              // blob * 2 + (west ? 1 : 0) -> cost of the best blob offered
+  std::vector<uint64_t> offered_key_;            // and its scan order: cell << 32 | blob
+  std::vector<size_t> blob_cell_;                // blob -> its grid cell (identified blobs)
+  std::vector<int32_t> owner_;                   // primitive -> blob, for duplicate detection
+  std::vector<int32_t> label_;                   // blob -> candidate index (working copy)
+  std::vector<int32_t> grow_;                    // (blob, candidate) pairs decoded in a growth round
+  std::vector<int32_t> word_;                    // blob -> primitive its full word names, or -1 (identify_by_words)
+  static constexpr size_t kSizeLevels = 8;       // Blob::level values with their own median (more share the last)
   std::vector<int> sizes_w_[kSizeLevels], sizes_h_[kSizeLevels];  // box sizes of identified blobs per level
   int grid_w_ = 0, grid_h_ = 0;
   size_t grid_cells_ = 0;  // grid_w_ * grid_h_, computed once in 64 bits

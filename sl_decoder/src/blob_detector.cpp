@@ -55,6 +55,12 @@ BlobDetector::BlobDetector(const DecoderConfig& config)
 {
 }
 
+BlobDetector::~BlobDetector() = default;
+BlobDetector::BlobDetector(const BlobDetector&) = default;
+BlobDetector::BlobDetector(BlobDetector&&) noexcept = default;
+BlobDetector& BlobDetector::operator=(const BlobDetector&) = default;
+BlobDetector& BlobDetector::operator=(BlobDetector&&) noexcept = default;
+
 BlobDetector::Simd BlobDetector::useSimd(Simd simd)
 {
   // Simd and local_threshold::Path list the same instruction sets in the same order.
@@ -139,6 +145,9 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
   row.r = r;
   row.offset = static_cast<float>(config_.threshold_offset);
   const auto path = static_cast<local_threshold::Path>(simd_);
+  // A window has at most 2 r + 1 rows; only the first and last r rows have fewer.
+  row_constants_.resize(static_cast<size_t>(2 * r + 2));
+  row_constants_set_.assign(row_constants_.size(), 0);
   int prev_begin = 0, prev_end = 0;
   for (int y0 = 0; y0 < h; y0 += kRowBlock)
   {
@@ -164,7 +173,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
       row.src = image.ptr<uint8_t>(y);
       setPrefix(row, pre[j]);
       row.rows = std::min(h, y + r + 1) - std::max(0, y - r);
-      local_threshold::thresholdRow(row, path, bits_.data(), weight_.data());
+      local_threshold::thresholdRow(row, constantsOf(row), path, bits_.data(), weight_.data());
       const int cur_begin = static_cast<int>(runs_.size());
       extractRuns(y, w);
       const int cur_end = static_cast<int>(runs_.size());
@@ -175,46 +184,64 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
   }
 }
 
+const local_threshold::RowConstants& BlobDetector::constantsOf(const local_threshold::RowInput& row)
+{
+  const auto k = static_cast<size_t>(row.rows);
+  if (!row_constants_set_[k])
+  {
+    local_threshold::rowConstants(row, row_constants_[k]);
+    row_constants_set_[k] = 1;
+  }
+  return row_constants_[k];
+}
+
 void BlobDetector::extractRuns(int y, int w)
 {
-  // The first set bit starts a run, the first clear bit after it ends it.
+  // Bit x of m ^ (m << 1 | carry) is set where pixel x differs from pixel x - 1: starts and ends
+  // of runs alternate there. Bits at and past w are clear, so a run open after the last word ends at w.
+  const size_t first = runs_.size();
+  runs_.resize(first + static_cast<size_t>((w + 1) / 2));  // at most a run per two pixels (Run() is empty)
+  Run* const begin = runs_.data();
+  Run* out = begin + first;
   const uint64_t* bits = bits_.data();
   const int words = (w + 63) >> 6;
-  int k = 0;
-  uint64_t m = bits[0];
-  for (;;)
+  uint64_t carry = 0;
+  int x0 = -1;  // the start of the open run, if any
+  for (int k = 0; k < words; ++k)
   {
-    while (m == 0 && ++k < words)
-      m = bits[k];
-    if (m == 0)
-      break;
-    const int b0 = __builtin_ctzll(m);
-    const int x0 = (k << 6) + b0;
-    uint64_t z = ~m & (~uint64_t{ 0 } << b0);
-    while (z == 0 && ++k < words)
+    const uint64_t m = bits[k];
+    uint64_t t = m ^ (m << 1 | carry);
+    carry = m >> 63;
+    while (t != 0)
     {
-      m = bits[k];
-      z = ~m;
+      if (x0 < 0)
+      {
+        x0 = (k << 6) + __builtin_ctzll(t);
+        t &= t - 1;
+        if (t == 0)
+          break;
+      }
+      const int x1 = (k << 6) + __builtin_ctzll(t);
+      t &= t - 1;
+      out = putRun(out, begin, y, x0, x1);
+      x0 = -1;
     }
-    int x1 = w;
-    m = 0;
-    if (z != 0)
-    {
-      const int b1 = __builtin_ctzll(z);
-      x1 = (k << 6) + b1;
-      m = bits[k] & (~uint64_t{ 0 } << b1);  // the later runs of this word
-    }
-    // Filled in place: a Run assembled on the stack and copied stalls on store forwarding.
-    runs_.emplace_back();
-    Run& run = runs_.back();
-    run.y = y;
-    run.x0 = x0;
-    run.x1 = x1;
-    run.parent = static_cast<int32_t>(runs_.size() - 1);
-    // Only each run's peak weight is kept: most blobs get the classifier's centroid, and
-    // centroids() forms the weights of the few others again.
-    run.peak = peakOf(weight_.data(), x0, x1);
   }
+  if (x0 >= 0)
+    out = putRun(out, begin, y, x0, w);
+  runs_.resize(static_cast<size_t>(out - begin));
+}
+
+inline BlobDetector::Run* BlobDetector::putRun(Run* out, const Run* begin, int y, int x0, int x1) const
+{
+  out->y = y;
+  out->x0 = x0;
+  out->x1 = x1;
+  out->parent = static_cast<int32_t>(out - begin);
+  // Only each run's peak weight is kept: most blobs get the classifier's centroid, and
+  // centroids() forms the weights of the few others again.
+  out->peak = peakOf(weight_.data(), x0, x1);
+  return out + 1;
 }
 
 void BlobDetector::detect(const cv::Mat& image, std::vector<Blob>& blobs)
@@ -347,21 +374,26 @@ void BlobDetector::formComponents()
 {
   // A run's parent is never a later run (unite() and find() only point back), so one forward pass
   // labels them all: a root starts a component, any other run joins its parent's.
-  boxes_.clear();
-  component_of_.resize(runs_.size());
-  for (size_t i = 0; i < runs_.size(); ++i)
+  const size_t n = runs_.size();
+  boxes_.resize(n);  // at most a component per run (Box() is empty)
+  component_of_.resize(n);
+  const Run* runs = runs_.data();
+  int32_t* component_of = component_of_.data();
+  Box* boxes = boxes_.data();
+  int32_t count = 0;
+  for (size_t i = 0; i < n; ++i)
   {
-    const Run& run = runs_[i];
+    const Run& run = runs[i];
     int32_t c;
     if (run.parent == static_cast<int32_t>(i))
     {
-      c = static_cast<int32_t>(boxes_.size());
-      boxes_.push_back(Box{ run.x0, run.x1, run.y, run.y + 1, 0, 0.f, static_cast<int32_t>(i), 0 });
+      c = count++;
+      startBox(boxes[c], run, static_cast<int32_t>(i));
     }
     else
-      c = component_of_[static_cast<size_t>(run.parent)];
-    component_of_[i] = c;
-    Box& b = boxes_[static_cast<size_t>(c)];
+      c = component_of[run.parent];
+    component_of[i] = c;
+    Box& b = boxes[c];
     b.x0 = std::min(b.x0, run.x0);
     b.x1 = std::max(b.x1, run.x1);
     b.y1 = run.y + 1;
@@ -369,7 +401,20 @@ void BlobDetector::formComponents()
     b.peak = std::max(b.peak, run.peak);
     b.last = static_cast<int32_t>(i);
   }
-  components_ = static_cast<int>(boxes_.size());
+  boxes_.resize(static_cast<size_t>(count));
+  components_ = count;
+}
+
+inline void BlobDetector::startBox(Box& b, const Run& run, int32_t first)
+{
+  b.x0 = run.x0;
+  b.x1 = run.x1;
+  b.y0 = run.y;
+  b.y1 = run.y + 1;
+  b.area = 0;
+  b.peak = 0.f;
+  b.first = first;
+  b.last = 0;
 }
 
 void BlobDetector::collectSpans()

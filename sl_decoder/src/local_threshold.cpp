@@ -228,42 +228,27 @@ void prefixSumsT(const T* const* v, T* const* pre, int n, int w)
 }
 
 template <class T>
-void thresholdRowT(const RowInput& in, const T* pre, Path path, uint64_t* bits, float* weight)
+void thresholdRowT(const RowInput& in, const T* pre, const RowConstants& c, Path path, uint64_t* bits, float* weight)
 {
-  const int w = in.w, r = in.r;
-  std::fill(bits, bits + ((w + 63) >> 6) + 1, uint64_t{ 0 });
-  // Interior: the window lies inside the row, one area for all (integer offset on that area).
-  const int lo = std::min(r, w), hi = std::max(lo, w - r - 1);
-  const int32_t area_in = in.rows * (2 * r + 1);
-  const int32_t offset_in = static_cast<int32_t>(in.offset * static_cast<float>(area_in) + 0.5f);
-  const Interior<T> k{
-    in.src, pre,   r, 1.0f / static_cast<float>(area_in), static_cast<float>(offset_in) / static_cast<float>(area_in),
-    bits,   weight
-  };
-  int x = lo;
+  std::fill(bits, bits + ((in.w + 63) >> 6) + 1, uint64_t{ 0 });
+  const Interior<T> k{ in.src, pre, in.r, c.inv_area, c.off, bits, weight };
+  int x = c.lo;
 #if defined(SL_X86)
   if (path == Path::Avx2)
-    x = interiorAvx2(k, x, hi);
+    x = interiorAvx2(k, x, c.hi);
   if (path != Path::Portable)
-    x = interiorSse2(k, x, hi);
+    x = interiorSse2(k, x, c.hi);
 #endif
-  interiorPortable(k, x, hi);
+  interiorPortable(k, x, c.hi);
   // The borders, where the image edge cuts the window: each pixel has its own area.
-  for (int b = 0; b < w; ++b)
+  for (const RowConstants::Edge& e : c.edges)
   {
-    if (b >= lo && b < hi)
-      b = hi;
-    if (b >= w)
-      break;
-    const int xa = std::max(0, b - r), xb = std::min(w, b + r + 1);
-    const int32_t area = in.rows * (xb - xa);
-    const int32_t off = static_cast<int32_t>(in.offset * static_cast<float>(area) + 0.5f);
-    const int32_t sum = windowSum(pre, xa, xb);
+    const int32_t sum = windowSum(pre, e.xa, e.xb);
     // Only the foreground's weights are used: the division is skipped for the others.
-    if (static_cast<int32_t>(in.src[b]) * area > sum + off)
+    if (static_cast<int32_t>(in.src[e.x]) * e.area > sum + e.off)
     {
-      bits[b >> 6] |= uint64_t{ 1 } << (b & 63);
-      weight[b] = weightOf(in.src[b], sum, b, w, r, in.rows);
+      bits[e.x >> 6] |= uint64_t{ 1 } << (e.x & 63);
+      weight[e.x] = static_cast<float>(in.src[e.x]) - static_cast<float>(sum) / static_cast<float>(e.area);
     }
   }
 }
@@ -312,12 +297,43 @@ void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w)
   prefixSumsT(v, pre, n, w);
 }
 
-void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight)
+void rowConstants(const RowInput& in, RowConstants& c)
+{
+  // Interior: the window lies inside the row, one area for all (integer offset on that area).
+  const int w = in.w, r = in.r;
+  c.lo = std::min(r, w);
+  c.hi = std::max(c.lo, w - r - 1);
+  const int32_t area_in = in.rows * (2 * r + 1);
+  const int32_t offset_in = static_cast<int32_t>(in.offset * static_cast<float>(area_in) + 0.5f);
+  c.inv_area = 1.0f / static_cast<float>(area_in);
+  c.off = static_cast<float>(offset_in) / static_cast<float>(area_in);
+  c.edges.clear();
+  for (int b = 0; b < w; ++b)
+  {
+    if (b >= c.lo && b < c.hi)
+      b = c.hi;
+    if (b >= w)
+      break;
+    const int xa = std::max(0, b - r), xb = std::min(w, b + r + 1);
+    const int32_t area = in.rows * (xb - xa);
+    const int32_t off = static_cast<int32_t>(in.offset * static_cast<float>(area) + 0.5f);
+    c.edges.push_back(RowConstants::Edge{ b, xa, xb, area, off });
+  }
+}
+
+void thresholdRow(const RowInput& in, const RowConstants& c, Path path, uint64_t* bits, float* weight)
 {
   if (in.pre16 != nullptr)
-    thresholdRowT(in, in.pre16, path, bits, weight);
+    thresholdRowT(in, in.pre16, c, path, bits, weight);
   else
-    thresholdRowT(in, in.pre, path, bits, weight);
+    thresholdRowT(in, in.pre, c, path, bits, weight);
+}
+
+void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight)
+{
+  RowConstants c;
+  rowConstants(in, c);
+  thresholdRow(in, c, path, bits, weight);
 }
 
 }  // namespace local_threshold

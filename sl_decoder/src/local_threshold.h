@@ -8,6 +8,7 @@
 /// bit-identical masks and weights; `BlobDetector.VectorPathsGiveIdenticalBlobs` checks it.
 
 #include <cstdint>
+#include <vector>
 
 namespace sl_decoder
 {
@@ -57,6 +58,24 @@ struct RowInput
   float offset = 0.f;               ///< grey levels above the local mean
 };
 
+/// @brief The constants of the rows whose windows have one row count: those of the interior (one
+/// area) and those of each pixel whose window an end of the row cuts (its own area).
+struct RowConstants
+{
+  /// A pixel near an end of the row: its window's columns [xa, xb), area and integer offset.
+  struct Edge
+  {
+    int32_t x, xa, xb, area, off;
+  };
+  int lo = 0, hi = 0;    ///< the interior columns [lo, hi)
+  float inv_area = 0.f;  ///< 1 / the interior's area
+  float off = 0.f;       ///< the interior's offset, rounded to its integer grid, over its area
+  std::vector<Edge> edges;
+};
+
+/// @brief Sets @p c for rows like @p in (its w, r, rows and offset; the pixels are not read).
+void rowConstants(const RowInput& in, RowConstants& c);
+
 /**
  * @brief value - mean of the pixel at column @p x of a row @p w wide: the same float operations as
  * thresholdRow() uses, so the same bits.
@@ -79,6 +98,8 @@ inline float weightOf(uint8_t value, int32_t sum, int x, int w, int r, int rows)
  * @param weight w values.
  */
 void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight);
+/// @brief The same with the constants of rows like @p in, formed once by rowConstants().
+void thresholdRow(const RowInput& in, const RowConstants& c, Path path, uint64_t* bits, float* weight);
 
 }  // namespace local_threshold
 }  // namespace sl_decoder

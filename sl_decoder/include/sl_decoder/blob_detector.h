@@ -12,6 +12,11 @@
 
 namespace sl_decoder
 {
+namespace local_threshold
+{
+struct RowConstants;
+struct RowInput;
+}  // namespace local_threshold
 
 /**
  * @brief Finds candidate primitives: pixels brighter than their local mean by an offset, grouped
@@ -34,6 +39,12 @@ class BlobDetector
 public:
   /// @brief Uses @p config (validated by the caller).
   explicit BlobDetector(const DecoderConfig& config = DecoderConfig());
+  // Defined where local_threshold::RowConstants is complete.
+  ~BlobDetector();
+  BlobDetector(const BlobDetector&);
+  BlobDetector(BlobDetector&&) noexcept;
+  BlobDetector& operator=(const BlobDetector&);
+  BlobDetector& operator=(BlobDetector&&) noexcept;
 
   /**
    * @brief Detects blobs in a CV_8UC1 image: detectBoxes(), then centroids().
@@ -101,6 +112,7 @@ public:
 private:
   struct Run
   {
+    Run() {}            // uninitialised: runs_ grows by a row's worst case before its runs are written
     int32_t y, x0, x1;  // [x0, x1)
     int32_t parent;     // union-find over runs
     float peak;         // max weight
@@ -122,6 +134,7 @@ private:
   /// A component of the row pass: its box, pixel count, peak weight and its first and last run.
   struct Box
   {
+    Box() {}  // uninitialised: boxes_ grows by the worst case before they are formed
     int32_t x0, x1, y0, y1, area;
     float peak;
     int32_t first, last;
@@ -141,8 +154,12 @@ private:
   /// The same with column and prefix sums of type @p T (int32_t, or uint16_t modulo 2^16).
   template <class T>
   void thresholdAndLink(const cv::Mat& image, std::vector<T>& col_sums, std::vector<T>& prefix);
+  /// The threshold's constants of rows like @p row (formed at their first use in an image).
+  const local_threshold::RowConstants& constantsOf(const local_threshold::RowInput& row);
   /// Appends the runs of row @p y from the bit mask bits_, with their peak weight (weight_).
   void extractRuns(int y, int w);
+  /// Writes the run [x0, x1) of row @p y (its own root) at @p out (runs_ starts at @p begin).
+  inline Run* putRun(Run* out, const Run* begin, int y, int x0, int x1) const;
   /// An integral image in box_sums_: its first column and row in the image, and its row stride.
   struct Integral
   {
@@ -156,6 +173,8 @@ private:
   void linkRows(int prev_begin, int prev_end, int cur_begin, int cur_end);
   /// Labels the linked runs_ (component_of_) and forms the components' boxes_.
   void formComponents();
+  /// Sets @p b to the box of a component whose first run is @p run (index @p first), still empty.
+  static inline void startBox(Box& b, const Run& run, int32_t first);
   /// True when a finished blob passes the size, aspect and fill filters.
   bool primitiveSized(const Blob& b) const;
   /// True when a blob is wider than two merged primitives would need to be.
@@ -184,12 +203,14 @@ private:
 
   DecoderConfig config_;
   Simd simd_;
-  static constexpr int kRowBlock = 4;            // rows whose prefix sums are formed side by side
-  std::vector<int32_t> col_sums_;                // column sums over the window rows: kRowBlock + 1 rows
-  std::vector<int32_t> prefix_;                  // prefix sums of the column sums: kRowBlock rows
-  std::vector<uint16_t> col_sums16_, prefix16_;  // the same modulo 2^16, for narrow windows
-  std::vector<uint64_t> bits_;                   // foreground flags of the current row, one bit per pixel
-  std::vector<float> weight_;                    // value minus local mean of the current row's pixels
+  static constexpr int kRowBlock = 4;                         // rows whose prefix sums are formed side by side
+  std::vector<int32_t> col_sums_;                             // column sums over the window rows: kRowBlock + 1 rows
+  std::vector<int32_t> prefix_;                               // prefix sums of the column sums: kRowBlock rows
+  std::vector<uint16_t> col_sums16_, prefix16_;               // the same modulo 2^16, for narrow windows
+  std::vector<uint64_t> bits_;                                // foreground flags of the current row, one bit per pixel
+  std::vector<float> weight_;                                 // value minus local mean of the current row's pixels
+  std::vector<local_threshold::RowConstants> row_constants_;  // per window row count (lazily each image)
+  std::vector<uint8_t> row_constants_set_;                    // per window row count: formed this image
   std::vector<Run> runs_;
   std::vector<int32_t> blob_of_root_;
   std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)

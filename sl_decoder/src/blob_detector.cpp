@@ -129,16 +129,18 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
   const int w = image.cols, h = image.rows;
   const int r = config_.threshold_window / 2;
   const size_t ws = static_cast<size_t>(w);
-  // Column sums of kRowBlock rows (slot 0: the last row of the previous block) and their prefix sums.
-  col_sums.assign((kRowBlock + 1) * ws, 0);
+  // Column sums over the window of the current row, and the prefix sums of kRowBlock rows' ones.
+  col_sums.assign(ws, 0);
   prefix.resize(kRowBlock * (ws + 1));
+  zero_row_.assign(ws, 0);
   bits_.resize(static_cast<size_t>((w + 63) >> 6) + 1);
   weight_.resize(ws + 4);  // peakOf() reads 4 at a time
-  // The rows above the first window's centre (slot 1 is scratch here).
+  // The rows above the first window's centre.
   for (int y = 0; y < std::min(h, r); ++y)
   {
-    local_threshold::slideColumnSums(col_sums.data(), image.ptr<uint8_t>(y), nullptr, w, col_sums.data() + ws);
-    std::copy(col_sums.data() + ws, col_sums.data() + 2 * ws, col_sums.data());
+    const uint8_t* src = image.ptr<uint8_t>(y);
+    for (int x = 0; x < w; ++x)
+      col_sums[static_cast<size_t>(x)] = static_cast<T>(col_sums[static_cast<size_t>(x)] + src[x]);
   }
   local_threshold::RowInput row;
   row.w = w;
@@ -152,21 +154,18 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
   for (int y0 = 0; y0 < h; y0 += kRowBlock)
   {
     const int n = std::min(kRowBlock, h - y0);
-    const T* sums[kRowBlock];
+    const uint8_t* add[kRowBlock];
+    const uint8_t* sub[kRowBlock];
     T* pre[kRowBlock];
     for (int j = 0; j < n; ++j)
     {
       // The window of row y: add row y + r, drop row y - r - 1.
       const int y = y0 + j;
-      const uint8_t* add = y + r < h ? image.ptr<uint8_t>(y + r) : nullptr;
-      const uint8_t* sub = y - r - 1 >= 0 ? image.ptr<uint8_t>(y - r - 1) : nullptr;
-      T* out = col_sums.data() + static_cast<size_t>(j + 1) * ws;
-      local_threshold::slideColumnSums(out - ws, add, sub, w, out);
-      sums[j] = out;
+      add[j] = y + r < h ? image.ptr<uint8_t>(y + r) : zero_row_.data();
+      sub[j] = y - r - 1 >= 0 ? image.ptr<uint8_t>(y - r - 1) : zero_row_.data();
       pre[j] = prefix.data() + static_cast<size_t>(j) * (ws + 1);
     }
-    local_threshold::prefixSums(sums, pre, n, w);
-    std::copy(sums[n - 1], sums[n - 1] + w, col_sums.data());
+    local_threshold::slidePrefixSums(col_sums.data(), add, sub, pre, n, w);
     for (int j = 0; j < n; ++j)
     {
       const int y = y0 + j;

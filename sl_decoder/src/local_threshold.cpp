@@ -1,6 +1,7 @@
 #include "local_threshold.h"
 
 #include <algorithm>
+#include <cstring>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -14,6 +15,8 @@ namespace local_threshold
 
 namespace
 {
+constexpr int kMaxRows = 4;  // rows slidePrefixSimd() forms side by side
+
 // Window sums from prefix sums: int32_t ones, or uint16_t ones taken modulo 2^16, which is exact
 // while a window's sum stays below 65536 (narrowSumsFit()).
 inline int32_t windowSum(const int32_t* pre, int a, int b)
@@ -139,6 +142,28 @@ __attribute__((target("avx2"))) int interiorAvx2(const Interior<T>& k, int x, in
   return x;
 }
 
+/// Prefix sums of 8 uint16 lanes plus @p carry (lane 7 of the last step, in every lane).
+inline __m128i prefixLanes8(__m128i a, __m128i& carry)
+{
+  a = _mm_add_epi16(a, _mm_slli_si128(a, 2));
+  a = _mm_add_epi16(a, _mm_slli_si128(a, 4));
+  a = _mm_add_epi16(a, _mm_slli_si128(a, 8));
+  a = _mm_add_epi16(a, carry);
+  const __m128i top = _mm_shufflehi_epi16(a, _MM_SHUFFLE(3, 3, 3, 3));  // lanes 4-7: lane 7
+  carry = _mm_unpackhi_epi64(top, top);
+  return a;
+}
+
+/// Prefix sums of 4 int32 lanes plus @p carry (lane 3 of the last step, in every lane).
+inline __m128i prefixLanes4(__m128i a, __m128i& carry)
+{
+  a = _mm_add_epi32(a, _mm_slli_si128(a, 4));
+  a = _mm_add_epi32(a, _mm_slli_si128(a, 8));
+  a = _mm_add_epi32(a, carry);
+  carry = _mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 3, 3));
+  return a;
+}
+
 /// Prefix sums of four rows in one loop: four independent carry chains.
 void prefix4(const int32_t* const* v, int32_t* const* pre, int w)
 {
@@ -152,12 +177,8 @@ void prefix4(const int32_t* const* v, int32_t* const* pre, int w)
   for (; x + 4 <= w; x += 4)
     for (int k = 0; k < 4; ++k)
     {
-      __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
-      a = _mm_add_epi32(a, _mm_slli_si128(a, 4));
-      a = _mm_add_epi32(a, _mm_slli_si128(a, 8));
-      a = _mm_add_epi32(a, carry[k]);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), a);
-      carry[k] = _mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 3, 3));
+      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes4(a, carry[k]));
     }
   for (int k = 0; k < 4; ++k)
     for (int i = x; i < w; ++i)
@@ -177,20 +198,112 @@ void prefix4(const uint16_t* const* v, uint16_t* const* pre, int w)
   for (; x + 8 <= w; x += 8)
     for (int k = 0; k < 4; ++k)
     {
-      __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
-      a = _mm_add_epi16(a, _mm_slli_si128(a, 2));
-      a = _mm_add_epi16(a, _mm_slli_si128(a, 4));
-      a = _mm_add_epi16(a, _mm_slli_si128(a, 8));
-      a = _mm_add_epi16(a, carry[k]);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), a);
-      const __m128i top = _mm_shufflehi_epi16(a, _MM_SHUFFLE(3, 3, 3, 3));  // lanes 4-7: lane 7
-      carry[k] = _mm_unpackhi_epi64(top, top);
+      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes8(a, carry[k]));
     }
   for (int k = 0; k < 4; ++k)
     for (int i = x; i < w; ++i)
       pre[k][i + 1] = static_cast<uint16_t>(pre[k][i] + v[k][i]);
 }
 #endif
+
+/// slidePrefixSums() for the columns [x, w), one column at a time with the rows side by side.
+template <class T>
+void slidePrefixTail(T* cols, const uint8_t* const* add, const uint8_t* const* sub, T* const* pre, int n, int x, int w)
+{
+  for (; x < w; ++x)
+  {
+    T c = cols[x];
+    for (int k = 0; k < n; ++k)
+    {
+      c = static_cast<T>(c + add[k][x] - sub[k][x]);
+      pre[k][x + 1] = static_cast<T>(pre[k][x] + c);
+    }
+    cols[x] = c;
+  }
+}
+
+#if defined(SL_X86)
+/// The 8 pixels of @p row from x as uint16 lanes.
+inline __m128i bytes8(const uint8_t* row, int x)
+{
+  return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + x)), _mm_setzero_si128());
+}
+
+/// The 4 pixels of @p row from x as int32 lanes.
+inline __m128i bytes4(const uint8_t* row, int x)
+{
+  int32_t v;
+  std::memcpy(&v, row + x, sizeof(v));
+  const __m128i zero = _mm_setzero_si128();
+  return _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), zero), zero);
+}
+
+/// slidePrefixSums() of uint16_t sums, 8 columns at a time; returns the first column left.
+template <int N>
+int slidePrefixSimd(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int w)
+{
+  __m128i carry[N];  // N is a constant: the carries stay in registers
+  for (int k = 0; k < N; ++k)
+    carry[k] = _mm_setzero_si128();
+  int x = 0;
+  for (; x + 8 <= w; x += 8)
+  {
+    __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cols + x));
+    for (int k = 0; k < N; ++k)
+    {
+      c = _mm_sub_epi16(_mm_add_epi16(c, bytes8(add[k], x)), bytes8(sub[k], x));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes8(c, carry[k]));
+    }
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cols + x), c);
+  }
+  return x;
+}
+
+/// slidePrefixSums() of int32_t sums, 4 columns at a time; returns the first column left.
+template <int N>
+int slidePrefixSimd(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int w)
+{
+  __m128i carry[N];  // N is a constant: the carries stay in registers
+  for (int k = 0; k < N; ++k)
+    carry[k] = _mm_setzero_si128();
+  int x = 0;
+  for (; x + 4 <= w; x += 4)
+  {
+    __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cols + x));
+    for (int k = 0; k < N; ++k)
+    {
+      c = _mm_sub_epi32(_mm_add_epi32(c, bytes4(add[k], x)), bytes4(sub[k], x));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes4(c, carry[k]));
+    }
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cols + x), c);
+  }
+  return x;
+}
+#endif
+
+template <class T>
+void slidePrefixSumsT(T* cols, const uint8_t* const* add, const uint8_t* const* sub, T* const* pre, int n, int w)
+{
+#if defined(SL_X86)
+  if (n != kMaxRows && n > 1)  // row by row (only the image's last block is shorter)
+  {
+    for (int k = 0; k < n; ++k)
+      slidePrefixSumsT(cols, add + k, sub + k, pre + k, 1, w);
+    return;
+  }
+#endif
+  for (int k = 0; k < n; ++k)
+    pre[k][0] = 0;
+  int x = 0;
+#if defined(SL_X86)
+  if (n == kMaxRows)
+    x = slidePrefixSimd<kMaxRows>(cols, add, sub, pre, w);
+  else if (n == 1)
+    x = slidePrefixSimd<1>(cols, add, sub, pre, w);
+#endif
+  slidePrefixTail(cols, add, sub, pre, n, x, w);
+}
 
 template <class T>
 void slideColumnSumsT(const T* __restrict in, const uint8_t* __restrict add, const uint8_t* __restrict sub, int w,
@@ -285,6 +398,18 @@ void slideColumnSums(const int32_t* in, const uint8_t* add, const uint8_t* sub, 
 void slideColumnSums(const uint16_t* in, const uint8_t* add, const uint8_t* sub, int w, uint16_t* out)
 {
   slideColumnSumsT(in, add, sub, w, out);
+}
+
+void slidePrefixSums(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int n,
+                     int w)
+{
+  slidePrefixSumsT(cols, add, sub, pre, n, w);
+}
+
+void slidePrefixSums(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int n,
+                     int w)
+{
+  slidePrefixSumsT(cols, add, sub, pre, n, w);
 }
 
 void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w)

@@ -46,6 +46,20 @@ void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w);
 /// @brief The same modulo 2^16: differences of two sums are exact window sums when narrowSumsFit().
 void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w);
 
+/**
+ * @brief Slides the column sums @p cols down @p n rows and forms the prefix sums of each: for row k,
+ * cols[x] += add[k][x] - sub[k][x], then pre[k] from cols as prefixSums() forms it. The same sums
+ * as slideColumnSums() then prefixSums(), in one pass: the rows between stay in registers.
+ * @param cols w column sums; the last row's afterwards.
+ * @param add, sub n image rows each (w pixels; a row of zeros where nothing is added or dropped).
+ * @param pre n rows of w + 1 prefix sums.
+ */
+void slidePrefixSums(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int n,
+                     int w);
+/// @brief The same modulo 2^16 (when narrowSumsFit()).
+void slidePrefixSums(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int n,
+                     int w);
+
 /// @brief One row of the local-mean threshold.
 struct RowInput
 {

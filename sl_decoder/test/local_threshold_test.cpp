@@ -95,3 +95,49 @@ TEST(LocalThreshold, SixteenBitSumsGiveTheThirtyTwoBitMasksAndWeights)
   EXPECT_GE(compared, 80);
   EXPECT_GT(foreground, 1000);
 }
+
+namespace
+{
+/// slidePrefixSums() against slideColumnSums() then prefixSums(), row after row, for sums of type T.
+template <class T>
+void expectSlidePrefixSumsAsSeparatePasses(cv::RNG& rng)
+{
+  const int w = rng.uniform(1, 200), n = rng.uniform(1, 7);
+  cv::Mat rows(2 * n, w, CV_8UC1);
+  rng.fill(rows, cv::RNG::UNIFORM, 0, 256);
+  const std::vector<uint8_t> zeros(static_cast<size_t>(w), 0);
+  std::vector<T> cols(static_cast<size_t>(w)), fused_cols;
+  for (T& c : cols)
+    c = static_cast<T>(rng.uniform(255 * n, 4 * 255 * n));  // never below what is dropped
+  fused_cols = cols;
+  std::vector<T> pre(static_cast<size_t>(n * (w + 1))), fused(pre.size());
+  const uint8_t* add[8];
+  const uint8_t* sub[8];
+  T* fused_pre[8];
+  for (int k = 0; k < n; ++k)
+  {
+    add[k] = k % 3 == 2 ? zeros.data() : rows.ptr<uint8_t>(2 * k);
+    sub[k] = k % 4 == 3 ? zeros.data() : rows.ptr<uint8_t>(2 * k + 1);
+    fused_pre[k] = fused.data() + static_cast<size_t>(k * (w + 1));
+    std::vector<T> next(cols.size());
+    slideColumnSums(cols.data(), add[k], sub[k], w, next.data());
+    cols.swap(next);
+    const T* v[1] = { cols.data() };
+    T* p[1] = { pre.data() + static_cast<size_t>(k * (w + 1)) };
+    prefixSums(v, p, 1, w);
+  }
+  slidePrefixSums(fused_cols.data(), add, sub, fused_pre, n, w);
+  ASSERT_EQ(cols, fused_cols) << "w " << w << " n " << n;
+  ASSERT_EQ(pre, fused) << "w " << w << " n " << n;
+}
+}  // namespace
+
+TEST(LocalThreshold, SlidingAndPrefixSumsInOnePassGiveTheSeparatePassesSums)
+{
+  cv::RNG rng(7);
+  for (int trial = 0; trial < 60; ++trial)
+  {
+    expectSlidePrefixSumsAsSeparatePasses<int32_t>(rng);
+    expectSlidePrefixSumsAsSeparatePasses<uint16_t>(rng);
+  }
+}

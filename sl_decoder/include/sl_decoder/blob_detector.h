@@ -204,9 +204,10 @@ private:
   DecoderConfig config_;
   Simd simd_;
   static constexpr int kRowBlock = 4;                         // rows whose prefix sums are formed side by side
-  std::vector<int32_t> col_sums_;                             // column sums over the window rows: kRowBlock + 1 rows
+  std::vector<int32_t> col_sums_;                             // column sums over the current row's window
   std::vector<int32_t> prefix_;                               // prefix sums of the column sums: kRowBlock rows
   std::vector<uint16_t> col_sums16_, prefix16_;               // the same modulo 2^16, for narrow windows
+  std::vector<uint8_t> zero_row_;                             // added or dropped where a window meets the top or bottom
   std::vector<uint64_t> bits_;                                // foreground flags of the current row, one bit per pixel
   std::vector<float> weight_;                                 // value minus local mean of the current row's pixels
   std::vector<local_threshold::RowConstants> row_constants_;  // per window row count (lazily each image)

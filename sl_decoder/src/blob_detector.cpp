@@ -165,7 +165,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
       sub[j] = y - r - 1 >= 0 ? image.ptr<uint8_t>(y - r - 1) : zero_row_.data();
       pre[j] = prefix.data() + static_cast<size_t>(j) * (ws + 1);
     }
-    local_threshold::slidePrefixSums(col_sums.data(), add, sub, pre, n, w);
+    local_threshold::slidePrefixSums(col_sums.data(), add, sub, pre, n, w, path);
     for (int j = 0; j < n; ++j)
     {
       const int y = y0 + j;

@@ -15,7 +15,7 @@ namespace local_threshold
 
 namespace
 {
-constexpr int kMaxRows = 4;  // rows slidePrefixSimd() forms side by side
+constexpr int kMaxRows = 4;  // rows slidePrefixVector() forms side by side
 
 // Window sums from prefix sums: int32_t ones, or uint16_t ones taken modulo 2^16, which is exact
 // while a window's sum stays below 65536 (narrowSumsFit()).
@@ -239,14 +239,14 @@ inline __m128i bytes4(const uint8_t* row, int x)
   return _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), zero), zero);
 }
 
-/// slidePrefixSums() of uint16_t sums, 8 columns at a time; returns the first column left.
+/// slidePrefixSums() of N rows of uint16_t sums from column x, 8 at a time; returns the first column left.
 template <int N>
-int slidePrefixSimd(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int w)
+int slidePrefixSse2(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int x,
+                    int w)
 {
   __m128i carry[N];  // N is a constant: the carries stay in registers
   for (int k = 0; k < N; ++k)
-    carry[k] = _mm_setzero_si128();
-  int x = 0;
+    carry[k] = _mm_set1_epi16(static_cast<int16_t>(pre[k][x]));
   for (; x + 8 <= w; x += 8)
   {
     __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cols + x));
@@ -260,14 +260,14 @@ int slidePrefixSimd(uint16_t* cols, const uint8_t* const* add, const uint8_t* co
   return x;
 }
 
-/// slidePrefixSums() of int32_t sums, 4 columns at a time; returns the first column left.
+/// slidePrefixSums() of N rows of int32_t sums from column x, 4 at a time; returns the first column left.
 template <int N>
-int slidePrefixSimd(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int w)
+int slidePrefixSse2(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int x,
+                    int w)
 {
   __m128i carry[N];  // N is a constant: the carries stay in registers
   for (int k = 0; k < N; ++k)
-    carry[k] = _mm_setzero_si128();
-  int x = 0;
+    carry[k] = _mm_set1_epi32(pre[k][x]);
   for (; x + 4 <= w; x += 4)
   {
     __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cols + x));
@@ -280,27 +280,113 @@ int slidePrefixSimd(int32_t* cols, const uint8_t* const* add, const uint8_t* con
   }
   return x;
 }
+
+/// Prefix sums of 16 uint16 lanes plus @p carry (lane 15 of the last step, in every lane).
+__attribute__((target("avx2"))) inline __m256i prefixLanes16(__m256i a, __m256i& carry)
+{
+  a = _mm256_add_epi16(a, _mm256_slli_si256(a, 2));  // within each half
+  a = _mm256_add_epi16(a, _mm256_slli_si256(a, 4));
+  a = _mm256_add_epi16(a, _mm256_slli_si256(a, 8));
+  const __m256i top = _mm256_shufflehi_epi16(a, _MM_SHUFFLE(3, 3, 3, 3));
+  const __m256i last = _mm256_unpackhi_epi64(top, top);                  // each half's sum in all its lanes
+  a = _mm256_add_epi16(a, _mm256_permute2x128_si256(last, last, 0x08));  // the high half adds the low one's
+  a = _mm256_add_epi16(a, carry);
+  const __m256i top2 = _mm256_shufflehi_epi16(a, _MM_SHUFFLE(3, 3, 3, 3));
+  const __m256i last2 = _mm256_unpackhi_epi64(top2, top2);
+  carry = _mm256_permute2x128_si256(last2, last2, 0x11);
+  return a;
+}
+
+/// Prefix sums of 8 int32 lanes plus @p carry (lane 7 of the last step, in every lane).
+__attribute__((target("avx2"))) inline __m256i prefixLanes8x32(__m256i a, __m256i& carry)
+{
+  a = _mm256_add_epi32(a, _mm256_slli_si256(a, 4));  // within each half
+  a = _mm256_add_epi32(a, _mm256_slli_si256(a, 8));
+  const __m256i last = _mm256_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 3, 3));  // each half's sum in all its lanes
+  a = _mm256_add_epi32(a, _mm256_permute2x128_si256(last, last, 0x08));   // the high half adds the low one's
+  a = _mm256_add_epi32(a, carry);
+  const __m256i last2 = _mm256_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 3, 3));
+  carry = _mm256_permute2x128_si256(last2, last2, 0x11);
+  return a;
+}
+
+/// slidePrefixSse2() 16 uint16_t columns at a time.
+template <int N>
+__attribute__((target("avx2"))) int slidePrefixAvx2(uint16_t* cols, const uint8_t* const* add,
+                                                    const uint8_t* const* sub, uint16_t* const* pre, int x, int w)
+{
+  __m256i carry[N];
+  for (int k = 0; k < N; ++k)
+    carry[k] = _mm256_set1_epi16(static_cast<int16_t>(pre[k][x]));
+  for (; x + 16 <= w; x += 16)
+  {
+    __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cols + x));
+    for (int k = 0; k < N; ++k)
+    {
+      const __m256i a = _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(add[k] + x)));
+      const __m256i s = _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(sub[k] + x)));
+      c = _mm256_sub_epi16(_mm256_add_epi16(c, a), s);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(pre[k] + x + 1), prefixLanes16(c, carry[k]));
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cols + x), c);
+  }
+  return x;
+}
+
+/// slidePrefixSse2() 8 int32_t columns at a time.
+template <int N>
+__attribute__((target("avx2"))) int slidePrefixAvx2(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub,
+                                                    int32_t* const* pre, int x, int w)
+{
+  __m256i carry[N];
+  for (int k = 0; k < N; ++k)
+    carry[k] = _mm256_set1_epi32(pre[k][x]);
+  for (; x + 8 <= w; x += 8)
+  {
+    __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cols + x));
+    for (int k = 0; k < N; ++k)
+    {
+      const __m256i a = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(add[k] + x)));
+      const __m256i s = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(sub[k] + x)));
+      c = _mm256_sub_epi32(_mm256_add_epi32(c, a), s);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(pre[k] + x + 1), prefixLanes8x32(c, carry[k]));
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cols + x), c);
+  }
+  return x;
+}
+
+/// slidePrefixSums() of N rows on @p path from column 0; returns the first column left.
+template <int N, class T>
+int slidePrefixVector(T* cols, const uint8_t* const* add, const uint8_t* const* sub, T* const* pre, int w, Path path)
+{
+  int x = 0;
+  if (path == Path::Avx2)
+    x = slidePrefixAvx2<N>(cols, add, sub, pre, x, w);
+  if (path != Path::Portable)
+    x = slidePrefixSse2<N>(cols, add, sub, pre, x, w);
+  return x;
+}
 #endif
 
 template <class T>
-void slidePrefixSumsT(T* cols, const uint8_t* const* add, const uint8_t* const* sub, T* const* pre, int n, int w)
+void slidePrefixSumsT(T* cols, const uint8_t* const* add, const uint8_t* const* sub, T* const* pre, int n, int w,
+                      Path path)
 {
-#if defined(SL_X86)
   if (n != kMaxRows && n > 1)  // row by row (only the image's last block is shorter)
   {
     for (int k = 0; k < n; ++k)
-      slidePrefixSumsT(cols, add + k, sub + k, pre + k, 1, w);
+      slidePrefixSumsT(cols, add + k, sub + k, pre + k, 1, w, path);
     return;
   }
-#endif
   for (int k = 0; k < n; ++k)
     pre[k][0] = 0;
   int x = 0;
 #if defined(SL_X86)
   if (n == kMaxRows)
-    x = slidePrefixSimd<kMaxRows>(cols, add, sub, pre, w);
+    x = slidePrefixVector<kMaxRows>(cols, add, sub, pre, w, path);
   else if (n == 1)
-    x = slidePrefixSimd<1>(cols, add, sub, pre, w);
+    x = slidePrefixVector<1>(cols, add, sub, pre, w, path);
 #endif
   slidePrefixTail(cols, add, sub, pre, n, x, w);
 }
@@ -401,15 +487,15 @@ void slideColumnSums(const uint16_t* in, const uint8_t* add, const uint8_t* sub,
 }
 
 void slidePrefixSums(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int n,
-                     int w)
+                     int w, Path path)
 {
-  slidePrefixSumsT(cols, add, sub, pre, n, w);
+  slidePrefixSumsT(cols, add, sub, pre, n, w, path);
 }
 
 void slidePrefixSums(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int n,
-                     int w)
+                     int w, Path path)
 {
-  slidePrefixSumsT(cols, add, sub, pre, n, w);
+  slidePrefixSumsT(cols, add, sub, pre, n, w, path);
 }
 
 void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w)

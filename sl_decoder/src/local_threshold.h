@@ -53,12 +53,13 @@ void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w);
  * @param cols w column sums; the last row's afterwards.
  * @param add, sub n image rows each (w pixels; a row of zeros where nothing is added or dropped).
  * @param pre n rows of w + 1 prefix sums.
+ * @param path the instruction set (all give the same sums).
  */
 void slidePrefixSums(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int n,
-                     int w);
+                     int w, Path path);
 /// @brief The same modulo 2^16 (when narrowSumsFit()).
 void slidePrefixSums(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int n,
-                     int w);
+                     int w, Path path);
 
 /// @brief One row of the local-mean threshold.
 struct RowInput

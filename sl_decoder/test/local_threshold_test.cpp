@@ -98,7 +98,7 @@ TEST(LocalThreshold, SixteenBitSumsGiveTheThirtyTwoBitMasksAndWeights)
 
 namespace
 {
-/// slidePrefixSums() against slideColumnSums() then prefixSums(), row after row, for sums of type T.
+/// slidePrefixSums() on every path against slideColumnSums() then prefixSums(), row after row, for sums of type T.
 template <class T>
 void expectSlidePrefixSumsAsSeparatePasses(cv::RNG& rng)
 {
@@ -126,9 +126,16 @@ void expectSlidePrefixSumsAsSeparatePasses(cv::RNG& rng)
     T* p[1] = { pre.data() + static_cast<size_t>(k * (w + 1)) };
     prefixSums(v, p, 1, w);
   }
-  slidePrefixSums(fused_cols.data(), add, sub, fused_pre, n, w);
-  ASSERT_EQ(cols, fused_cols) << "w " << w << " n " << n;
-  ASSERT_EQ(pre, fused) << "w " << w << " n " << n;
+  for (Path path : { Path::Portable, Path::Sse2, Path::Avx2 })
+  {
+    if (!supported(path))
+      continue;
+    std::vector<T> path_cols = fused_cols;
+    std::fill(fused.begin(), fused.end(), T{ 0 });
+    slidePrefixSums(path_cols.data(), add, sub, fused_pre, n, w, path);
+    ASSERT_EQ(cols, path_cols) << "w " << w << " n " << n << " path " << static_cast<int>(path);
+    ASSERT_EQ(pre, fused) << "w " << w << " n " << n << " path " << static_cast<int>(path);
+  }
 }
 }  // namespace
 

@@ -224,57 +224,58 @@ void slidePrefixTail(T* cols, const uint8_t* const* add, const uint8_t* const* s
 }
 
 #if defined(SL_X86)
-/// The 8 pixels of @p row from x as uint16 lanes.
-inline __m128i bytes8(const uint8_t* row, int x)
+// The lanes of slidePrefixSse2(), by the sums' type: 8 uint16_t or 4 int32_t.
+inline __m128i pixelsSse2(const uint8_t* row, int x, uint16_t)
 {
   return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + x)), _mm_setzero_si128());
 }
-
-/// The 4 pixels of @p row from x as int32 lanes.
-inline __m128i bytes4(const uint8_t* row, int x)
+inline __m128i pixelsSse2(const uint8_t* row, int x, int32_t)
 {
   int32_t v;
   std::memcpy(&v, row + x, sizeof(v));
   const __m128i zero = _mm_setzero_si128();
   return _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), zero), zero);
 }
-
-/// slidePrefixSums() of N rows of uint16_t sums from column x, 8 at a time; returns the first column left.
-template <int N>
-int slidePrefixSse2(uint16_t* cols, const uint8_t* const* add, const uint8_t* const* sub, uint16_t* const* pre, int x,
-                    int w)
+inline __m128i slideSse2(__m128i c, __m128i a, __m128i s, uint16_t)
 {
-  __m128i carry[N];  // N is a constant: the carries stay in registers
-  for (int k = 0; k < N; ++k)
-    carry[k] = _mm_set1_epi16(static_cast<int16_t>(pre[k][x]));
-  for (; x + 8 <= w; x += 8)
-  {
-    __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cols + x));
-    for (int k = 0; k < N; ++k)
-    {
-      c = _mm_sub_epi16(_mm_add_epi16(c, bytes8(add[k], x)), bytes8(sub[k], x));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes8(c, carry[k]));
-    }
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(cols + x), c);
-  }
-  return x;
+  return _mm_sub_epi16(_mm_add_epi16(c, a), s);
+}
+inline __m128i slideSse2(__m128i c, __m128i a, __m128i s, int32_t)
+{
+  return _mm_sub_epi32(_mm_add_epi32(c, a), s);
+}
+inline __m128i broadcastSse2(uint16_t v)
+{
+  return _mm_set1_epi16(static_cast<int16_t>(v));
+}
+inline __m128i broadcastSse2(int32_t v)
+{
+  return _mm_set1_epi32(v);
+}
+inline __m128i prefixLanesSse2(__m128i a, __m128i& carry, uint16_t)
+{
+  return prefixLanes8(a, carry);
+}
+inline __m128i prefixLanesSse2(__m128i a, __m128i& carry, int32_t)
+{
+  return prefixLanes4(a, carry);
 }
 
-/// slidePrefixSums() of N rows of int32_t sums from column x, 4 at a time; returns the first column left.
-template <int N>
-int slidePrefixSse2(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int x,
-                    int w)
+/// slidePrefixSums() of N rows from column x, 16 bytes of sums at a time; returns the first column left.
+template <int N, class T>
+int slidePrefixSse2(T* cols, const uint8_t* const* add, const uint8_t* const* sub, T* const* pre, int x, int w)
 {
+  constexpr int kLanes = 16 / sizeof(T);
   __m128i carry[N];  // N is a constant: the carries stay in registers
   for (int k = 0; k < N; ++k)
-    carry[k] = _mm_set1_epi32(pre[k][x]);
-  for (; x + 4 <= w; x += 4)
+    carry[k] = broadcastSse2(pre[k][x]);
+  for (; x + kLanes <= w; x += kLanes)
   {
     __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cols + x));
     for (int k = 0; k < N; ++k)
     {
-      c = _mm_sub_epi32(_mm_add_epi32(c, bytes4(add[k], x)), bytes4(sub[k], x));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes4(c, carry[k]));
+      c = slideSse2(c, pixelsSse2(add[k], x, T{}), pixelsSse2(sub[k], x, T{}), T{});
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanesSse2(c, carry[k], T{}));
     }
     _mm_storeu_si128(reinterpret_cast<__m128i*>(cols + x), c);
   }
@@ -310,46 +311,56 @@ __attribute__((target("avx2"))) inline __m256i prefixLanes8x32(__m256i a, __m256
   return a;
 }
 
-/// slidePrefixSse2() 16 uint16_t columns at a time.
-template <int N>
-__attribute__((target("avx2"))) int slidePrefixAvx2(uint16_t* cols, const uint8_t* const* add,
-                                                    const uint8_t* const* sub, uint16_t* const* pre, int x, int w)
+// The lanes of slidePrefixAvx2(), by the sums' type: 16 uint16_t or 8 int32_t.
+__attribute__((target("avx2"))) inline __m256i pixelsAvx2(const uint8_t* row, int x, uint16_t)
 {
-  __m256i carry[N];
-  for (int k = 0; k < N; ++k)
-    carry[k] = _mm256_set1_epi16(static_cast<int16_t>(pre[k][x]));
-  for (; x + 16 <= w; x += 16)
-  {
-    __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cols + x));
-    for (int k = 0; k < N; ++k)
-    {
-      const __m256i a = _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(add[k] + x)));
-      const __m256i s = _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(sub[k] + x)));
-      c = _mm256_sub_epi16(_mm256_add_epi16(c, a), s);
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(pre[k] + x + 1), prefixLanes16(c, carry[k]));
-    }
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cols + x), c);
-  }
-  return x;
+  return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x)));
+}
+__attribute__((target("avx2"))) inline __m256i pixelsAvx2(const uint8_t* row, int x, int32_t)
+{
+  return _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + x)));
+}
+__attribute__((target("avx2"))) inline __m256i slideAvx2(__m256i c, __m256i a, __m256i s, uint16_t)
+{
+  return _mm256_sub_epi16(_mm256_add_epi16(c, a), s);
+}
+__attribute__((target("avx2"))) inline __m256i slideAvx2(__m256i c, __m256i a, __m256i s, int32_t)
+{
+  return _mm256_sub_epi32(_mm256_add_epi32(c, a), s);
+}
+__attribute__((target("avx2"))) inline __m256i broadcastAvx2(uint16_t v)
+{
+  return _mm256_set1_epi16(static_cast<int16_t>(v));
+}
+__attribute__((target("avx2"))) inline __m256i broadcastAvx2(int32_t v)
+{
+  return _mm256_set1_epi32(v);
+}
+__attribute__((target("avx2"))) inline __m256i prefixLanesAvx2(__m256i a, __m256i& carry, uint16_t)
+{
+  return prefixLanes16(a, carry);
+}
+__attribute__((target("avx2"))) inline __m256i prefixLanesAvx2(__m256i a, __m256i& carry, int32_t)
+{
+  return prefixLanes8x32(a, carry);
 }
 
-/// slidePrefixSse2() 8 int32_t columns at a time.
-template <int N>
-__attribute__((target("avx2"))) int slidePrefixAvx2(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub,
-                                                    int32_t* const* pre, int x, int w)
+/// slidePrefixSse2() 32 bytes of sums at a time.
+template <int N, class T>
+__attribute__((target("avx2"))) int slidePrefixAvx2(T* cols, const uint8_t* const* add, const uint8_t* const* sub,
+                                                    T* const* pre, int x, int w)
 {
+  constexpr int kLanes = 32 / sizeof(T);
   __m256i carry[N];
   for (int k = 0; k < N; ++k)
-    carry[k] = _mm256_set1_epi32(pre[k][x]);
-  for (; x + 8 <= w; x += 8)
+    carry[k] = broadcastAvx2(pre[k][x]);
+  for (; x + kLanes <= w; x += kLanes)
   {
     __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cols + x));
     for (int k = 0; k < N; ++k)
     {
-      const __m256i a = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(add[k] + x)));
-      const __m256i s = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(sub[k] + x)));
-      c = _mm256_sub_epi32(_mm256_add_epi32(c, a), s);
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(pre[k] + x + 1), prefixLanes8x32(c, carry[k]));
+      c = slideAvx2(c, pixelsAvx2(add[k], x, T{}), pixelsAvx2(sub[k], x, T{}), T{});
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(pre[k] + x + 1), prefixLanesAvx2(c, carry[k], T{}));
     }
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(cols + x), c);
   }
@@ -362,9 +373,9 @@ int slidePrefixVector(T* cols, const uint8_t* const* add, const uint8_t* const* 
 {
   int x = 0;
   if (path == Path::Avx2)
-    x = slidePrefixAvx2<N>(cols, add, sub, pre, x, w);
+    x = slidePrefixAvx2<N, T>(cols, add, sub, pre, x, w);
   if (path != Path::Portable)
-    x = slidePrefixSse2<N>(cols, add, sub, pre, x, w);
+    x = slidePrefixSse2<N, T>(cols, add, sub, pre, x, w);
   return x;
 }
 #endif

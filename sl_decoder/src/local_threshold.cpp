@@ -164,47 +164,6 @@ inline __m128i prefixLanes4(__m128i a, __m128i& carry)
   return a;
 }
 
-/// Prefix sums of four rows in one loop: four independent carry chains.
-void prefix4(const int32_t* const* v, int32_t* const* pre, int w)
-{
-  __m128i carry[4];
-  for (int k = 0; k < 4; ++k)
-  {
-    pre[k][0] = 0;
-    carry[k] = _mm_setzero_si128();
-  }
-  int x = 0;
-  for (; x + 4 <= w; x += 4)
-    for (int k = 0; k < 4; ++k)
-    {
-      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes4(a, carry[k]));
-    }
-  for (int k = 0; k < 4; ++k)
-    for (int i = x; i < w; ++i)
-      pre[k][i + 1] = pre[k][i] + v[k][i];
-}
-
-/// The same modulo 2^16, eight sums per step.
-void prefix4(const uint16_t* const* v, uint16_t* const* pre, int w)
-{
-  __m128i carry[4];
-  for (int k = 0; k < 4; ++k)
-  {
-    pre[k][0] = 0;
-    carry[k] = _mm_setzero_si128();
-  }
-  int x = 0;
-  for (; x + 8 <= w; x += 8)
-    for (int k = 0; k < 4; ++k)
-    {
-      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v[k] + x));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(pre[k] + x + 1), prefixLanes8(a, carry[k]));
-    }
-  for (int k = 0; k < 4; ++k)
-    for (int i = x; i < w; ++i)
-      pre[k][i + 1] = static_cast<uint16_t>(pre[k][i] + v[k][i]);
-}
 #endif
 
 /// slidePrefixSums() for the columns [x, w), one column at a time with the rows side by side.
@@ -403,41 +362,6 @@ void slidePrefixSumsT(T* cols, const uint8_t* const* add, const uint8_t* const* 
 }
 
 template <class T>
-void slideColumnSumsT(const T* __restrict in, const uint8_t* __restrict add, const uint8_t* __restrict sub, int w,
-                      T* __restrict out)
-{
-  // One loop per case, each simple enough for the compiler to vectorise. Column sums are never
-  // negative nor above the window's rows times 255, so uint16_t ones do not wrap.
-  if (add != nullptr && sub != nullptr)
-    for (int x = 0; x < w; ++x)
-      out[x] = static_cast<T>(in[x] + add[x] - sub[x]);
-  else if (add != nullptr)
-    for (int x = 0; x < w; ++x)
-      out[x] = static_cast<T>(in[x] + add[x]);
-  else if (sub != nullptr)
-    for (int x = 0; x < w; ++x)
-      out[x] = static_cast<T>(in[x] - sub[x]);
-  else
-    std::copy(in, in + w, out);
-}
-
-template <class T>
-void prefixSumsT(const T* const* v, T* const* pre, int n, int w)
-{
-  int k = 0;
-#if defined(SL_X86)
-  for (; k + 4 <= n; k += 4)
-    prefix4(v + k, pre + k, w);
-#endif
-  for (; k < n; ++k)
-  {
-    pre[k][0] = 0;
-    for (int x = 0; x < w; ++x)
-      pre[k][x + 1] = static_cast<T>(pre[k][x] + v[k][x]);
-  }
-}
-
-template <class T>
 void thresholdRowT(const RowInput& in, const T* pre, const RowConstants& c, Path path, uint64_t* bits, float* weight)
 {
   std::fill(bits, bits + ((in.w + 63) >> 6) + 1, uint64_t{ 0 });
@@ -487,16 +411,6 @@ bool narrowSumsFit(int window)
   return window * window * 255 < 65536;
 }
 
-void slideColumnSums(const int32_t* in, const uint8_t* add, const uint8_t* sub, int w, int32_t* out)
-{
-  slideColumnSumsT(in, add, sub, w, out);
-}
-
-void slideColumnSums(const uint16_t* in, const uint8_t* add, const uint8_t* sub, int w, uint16_t* out)
-{
-  slideColumnSumsT(in, add, sub, w, out);
-}
-
 void slidePrefixSums(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int n,
                      int w, Path path)
 {
@@ -507,16 +421,6 @@ void slidePrefixSums(uint16_t* cols, const uint8_t* const* add, const uint8_t* c
                      int w, Path path)
 {
   slidePrefixSumsT(cols, add, sub, pre, n, w, path);
-}
-
-void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w)
-{
-  prefixSumsT(v, pre, n, w);
-}
-
-void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w)
-{
-  prefixSumsT(v, pre, n, w);
 }
 
 void rowConstants(const RowInput& in, RowConstants& c)

@@ -33,23 +33,10 @@ bool supported(Path path);
 /// then column and prefix sums may be uint16_t, taken modulo 2^16 (twice the lanes per vector).
 bool narrowSumsFit(int window);
 
-/// @brief out[x] = in[x] + add[x] - sub[x] for x < w; @p add and @p sub may be null (nothing added
-/// or dropped). @p out must not alias @p in.
-void slideColumnSums(const int32_t* in, const uint8_t* add, const uint8_t* sub, int w, int32_t* out);
-/// @brief The same in uint16_t (when narrowSumsFit()).
-void slideColumnSums(const uint16_t* in, const uint8_t* add, const uint8_t* sub, int w, uint16_t* out);
-
-/// @brief For each of @p n rows k: pre[k][0] = 0 and pre[k][x + 1] = pre[k][x] + v[k][x].
-/// Rows are summed side by side: a prefix sum is one long dependency chain, and four independent
-/// chains run in the time of about one.
-void prefixSums(const int32_t* const* v, int32_t* const* pre, int n, int w);
-/// @brief The same modulo 2^16: differences of two sums are exact window sums when narrowSumsFit().
-void prefixSums(const uint16_t* const* v, uint16_t* const* pre, int n, int w);
-
 /**
  * @brief Slides the column sums @p cols down @p n rows and forms the prefix sums of each: for row k,
- * cols[x] += add[k][x] - sub[k][x], then pre[k] from cols as prefixSums() forms it. The same sums
- * as slideColumnSums() then prefixSums(), in one pass: the rows between stay in registers.
+ * cols[x] += add[k][x] - sub[k][x], then pre[k][0] = 0 and pre[k][x + 1] = pre[k][x] + cols[x]
+ * (in T: modulo 2^16 for uint16_t). One pass: the column sums of the rows between stay in registers.
  * @param cols w column sums; the last row's afterwards.
  * @param add, sub n image rows each (w pixels; a row of zeros where nothing is added or dropped).
  * @param pre n rows of w + 1 prefix sums.

@@ -411,6 +411,46 @@ __attribute__((target("avx2"))) void lightSumsAvx2(const uint8_t* origin, size_t
   sums[1] = _mm_extract_epi32(total, 1);
   sums[2] = _mm_extract_epi32(total, 2);
 }
+
+/// lightSumsAvx2() for boxes at most 16 px wide, two rows at a time in bytes: w = the saturated
+/// byte difference; sum w and each row's sum by a SAD, sum w (x - x0) by a multiply-add of bytes
+/// (at most 2 * 255 * 15 per pair), sum w (y - y0) from the row sums. The 16 bytes from each row's
+/// start must be in the image; bh <= 256.
+__attribute__((target("avx2"))) void lightSums16Avx2(const uint8_t* origin, size_t step, int bw, int bh, int dark,
+                                                     int64_t sums[3])
+{
+  const __m128i col = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m256i cols = _mm256_broadcastsi128_si256(col), zero = _mm256_setzero_si256();
+  const __m256i inside = _mm256_broadcastsi128_si256(_mm_cmpgt_epi8(_mm_set1_epi8(static_cast<char>(bw)), col));
+  const __m256i dark8 = _mm256_set1_epi8(static_cast<char>(dark)), ones = _mm256_set1_epi16(1);
+  __m256i acc_w = zero, acc_x = zero, acc_y = zero;
+  __m256i dy = _mm256_setr_epi64x(0, 0, 1, 1);  // the row of each SAD lane: y in the low half, y + 1 high
+  const __m256i two = _mm256_set1_epi64x(2);
+  static const uint8_t kNoRow[16] = {};  // below an odd last row: zero bytes weigh nothing
+  for (int y = 0; y < bh; y += 2, origin += 2 * step)
+  {
+    const uint8_t* below = y + 1 < bh ? origin + step : kNoRow;
+    const __m256i v =
+        _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(origin))),
+                                _mm_loadu_si128(reinterpret_cast<const __m128i*>(below)), 1);
+    const __m256i w = _mm256_and_si256(_mm256_subs_epu8(v, dark8), inside);
+    const __m256i row_sums = _mm256_sad_epu8(w, zero);
+    acc_w = _mm256_add_epi64(acc_w, row_sums);
+    acc_x = _mm256_add_epi32(acc_x, _mm256_madd_epi16(_mm256_maddubs_epi16(w, cols), ones));
+    acc_y = _mm256_add_epi64(acc_y, _mm256_mul_epu32(row_sums, dy));
+    dy = _mm256_add_epi64(dy, two);
+  }
+  alignas(32) int64_t w64[4], y64[4];
+  alignas(32) int32_t x32[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(w64), acc_w);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(y64), acc_y);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(x32), acc_x);
+  sums[0] = w64[0] + w64[1] + w64[2] + w64[3];
+  sums[1] = 0;
+  for (const int32_t x : x32)
+    sums[1] += x;
+  sums[2] = y64[0] + y64[1] + y64[2] + y64[3];
+}
 #endif
 
 #if defined(__SSE2__)
@@ -485,7 +525,10 @@ void ShapeClassifier::refineCentroid(const cv::Mat& image, Blob& blob, int margi
 #if defined(__x86_64__)
   if (avx2_ && small && x0 + (bw + 15) / 16 * 16 <= image.cols)
   {
-    lightSumsAvx2(origin, step, bw, bh, dark, sums);
+    if (bw <= 16)
+      lightSums16Avx2(origin, step, bw, bh, dark, sums);
+    else
+      lightSumsAvx2(origin, step, bw, bh, dark, sums);
     summed = true;
   }
 #endif

@@ -296,17 +296,16 @@ inline void ShapeClassifier::decide(const float sums[6], Blob& blob) const
   const float inv = 1.f / std::sqrt(var);
   float best = -2.f, second = -2.f;
   int best_shape = 0;
+  // Selected without branches (which template wins is a coin toss per blob): the same as
+  // "if (c > best) second = best, best = c; else if (c > second) second = c", NaN and signed zeros
+  // included. second <= best throughout, so a new best pushes the old one to second.
   for (int k = 0; k < 4; ++k)
   {
     const float c = sums[2 + k] * inv;
-    if (c > best)
-    {
-      second = best;
-      best = c;
-      best_shape = k + 1;
-    }
-    else if (c > second)
-      second = c;
+    const float above_second = c > second ? c : second;
+    best_shape = c > best ? k + 1 : best_shape;
+    second = best < above_second ? best : above_second;
+    best = c > best ? c : best;
   }
   blob.correlation = best;
   blob.margin = best - second;

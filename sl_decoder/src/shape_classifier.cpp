@@ -303,14 +303,15 @@ inline void ShapeClassifier::decide(const float sums[6], Blob& blob) const
   {
     const float c = sums[2 + k] * inv;
     const float above_second = c > second ? c : second;
-    best_shape = c > best ? k + 1 : best_shape;
+    const int top = -static_cast<int>(c > best);  // all ones for a new best (a mask: GCC branched on a select)
+    best_shape ^= top & (best_shape ^ (k + 1));
     second = best < above_second ? best : above_second;
     best = c > best ? c : best;
   }
   blob.correlation = best;
   blob.margin = best - second;
-  if (best >= config_.min_correlation && blob.margin >= config_.min_margin)
-    blob.shape = best_shape;
+  const bool clear = (best >= config_.min_correlation) & (blob.margin >= config_.min_margin);
+  blob.shape = best_shape & -static_cast<int>(clear);
 }
 
 #if defined(__x86_64__)

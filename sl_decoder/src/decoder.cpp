@@ -216,6 +216,7 @@ void Decoder::findCandidates(DecodeResult& result)
   rays_.resize(blobs.size());
   units_.resize(blobs.size());
   typical_.resize(blobs.size());
+  ranges_.resize(blobs.size());
   // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
   // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
   // Blobs split out of merged components were cut at a raised threshold: each level has its own
@@ -236,13 +237,15 @@ void Decoder::findCandidates(DecodeResult& result)
       continue;
     rays_[bi] = index_->cameraRay(b.u, b.v);
     units_[bi] = rays_[bi].normalized();
+    // The look-ups in the block table, ahead of their use (their cache misses overlap).
+    index_->candidates(b.u, b.v, b.shape, ranges_[bi].first, ranges_[bi].second);
   }
   size_t used = 0;  // cands_ is a buffer: its first `used` entries are this frame's
   for (size_t bi = 0; bi < blobs.size(); ++bi)
   {
     cand_begin_[bi] = static_cast<int32_t>(used);
     if (typical_[bi])
-      used = appendCandidates(blobs[bi], units_[bi], used);
+      used = appendCandidates(bi, units_[bi], used);
   }
   cand_begin_[blobs.size()] = static_cast<int32_t>(used);
   cands_.resize(used);
@@ -269,15 +272,14 @@ inline size_t Decoder::keepCandidate(int32_t p, const RayApproach& r, size_t use
   return used + !rejected;
 }
 
-inline size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used)
+inline size_t Decoder::appendCandidates(size_t bi, const Eigen::Vector3d& unit, size_t used)
 {
   CameraRayTerms cam;
   cam.o = index_->projectorOrigin();
   cam.fx = rig_.camera.fx;
   cam.d1 = unit;
   cam.d1o = cam.d1.dot(cam.o);
-  const int32_t *it, *end;
-  index_->candidates(b.u, b.v, b.shape, it, end);
+  const int32_t *it = ranges_[bi].first, *end = ranges_[bi].second;
   if (cands_.size() < used + static_cast<size_t>(end - it))
   {
     cands_.resize(std::max(cands_.capacity(), used + static_cast<size_t>(end - it)));  // no allocation once warm

@@ -42,21 +42,19 @@ int popcount4(uint8_t bits)
   return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
 }
 
-/// The element at index size / 2 of @p values sorted (reorders them).
-int upperMedian(std::vector<int>& values)
+/// Box sizes below this are counted (sizeMedians()).
+constexpr int kCounted = 128;
+
+/// The element at index size / 2 of @p values sorted, from @p counts (per value below kCounted)
+/// when @p counted, else by a selection (reorders @p values).
+int upperMedian(std::vector<int>& values, const int* counts, bool counted)
 {
-  // Box sizes are small: counting them is cheaper than a selection (same element: sorted[n / 2]).
-  constexpr int kCounted = 128;
   const size_t mid = values.size() / 2;
-  const auto range = std::minmax_element(values.begin(), values.end());
-  if (*range.first < 0 || *range.second >= kCounted)
+  if (!counted)
   {
     std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
     return values[mid];
   }
-  int counts[kCounted] = {};
-  for (const int v : values)
-    ++counts[v];
   size_t below = 0;
   int v = 0;
   for (; below + static_cast<size_t>(counts[v]) <= mid; ++v)
@@ -186,26 +184,35 @@ void Decoder::placeBandCell(Blob& b) const
 
 void Decoder::sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h)
 {
+  // Box sizes are small: counting them as they are listed is cheaper than a selection (the same
+  // element: sorted[n / 2]). A level with a size beyond the counts is selected from its list.
+  int counts_w[kSizeLevels][kCounted] = {}, counts_h[kSizeLevels][kCounted] = {};
+  bool counted[kSizeLevels];
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
     sizes_w_[l].clear();
     sizes_h_[l].clear();
+    counted[l] = true;
   }
   for (const Blob& b : blobs)
     if (b.shape > 0)
     {
-      sizes_w_[levelOf(b)].push_back(b.width());
-      sizes_h_[levelOf(b)].push_back(b.height());
+      const size_t l = levelOf(b);
+      const int w = b.width(), h = b.height();
+      sizes_w_[l].push_back(w);
+      sizes_h_[l].push_back(h);
+      const bool in_range = w >= 0 && h >= 0 && w < kCounted && h < kCounted;
+      counted[l] = counted[l] && in_range;
+      counts_w[l][in_range ? w : 0] += in_range;
+      counts_h[l][in_range ? h : 0] += in_range;
     }
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
     median_w[l] = median_h[l] = 0.f;
-    std::vector<int>& ws = sizes_w_[l];
-    std::vector<int>& hs = sizes_h_[l];
-    if (ws.empty())
+    if (sizes_w_[l].empty())
       continue;
-    median_w[l] = static_cast<float>(upperMedian(ws));
-    median_h[l] = static_cast<float>(upperMedian(hs));
+    median_w[l] = static_cast<float>(upperMedian(sizes_w_[l], counts_w[l], counted[l]));
+    median_h[l] = static_cast<float>(upperMedian(sizes_h_[l], counts_h[l], counted[l]));
   }
 }
 

@@ -42,21 +42,19 @@ int popcount4(uint8_t bits)
   return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
 }
 
-/// The element at index size / 2 of @p values sorted (reorders them).
-int upperMedian(std::vector<int>& values)
+/// Box sizes below this are counted (sizeMedians()).
+constexpr int kCounted = 128;
+
+/// The element at index size / 2 of @p values sorted, from @p counts (per value below kCounted)
+/// when @p counted, else by a selection (reorders @p values).
+int upperMedian(std::vector<int>& values, const int* counts, bool counted)
 {
-  // Box sizes are small: counting them is cheaper than a selection (same element: sorted[n / 2]).
-  constexpr int kCounted = 128;
   const size_t mid = values.size() / 2;
-  const auto range = std::minmax_element(values.begin(), values.end());
-  if (*range.first < 0 || *range.second >= kCounted)
+  if (!counted)
   {
     std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
     return values[mid];
   }
-  int counts[kCounted] = {};
-  for (const int v : values)
-    ++counts[v];
   size_t below = 0;
   int v = 0;
   for (; below + static_cast<size_t>(counts[v]) <= mid; ++v)
@@ -186,26 +184,35 @@ void Decoder::placeBandCell(Blob& b) const
 
 void Decoder::sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h)
 {
+  // Box sizes are small: counting them as they are listed is cheaper than a selection (the same
+  // element: sorted[n / 2]). A level with a size beyond the counts is selected from its list.
+  int counts_w[kSizeLevels][kCounted] = {}, counts_h[kSizeLevels][kCounted] = {};
+  bool counted[kSizeLevels];
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
     sizes_w_[l].clear();
     sizes_h_[l].clear();
+    counted[l] = true;
   }
   for (const Blob& b : blobs)
     if (b.shape > 0)
     {
-      sizes_w_[levelOf(b)].push_back(b.width());
-      sizes_h_[levelOf(b)].push_back(b.height());
+      const size_t l = levelOf(b);
+      const int w = b.width(), h = b.height();
+      sizes_w_[l].push_back(w);
+      sizes_h_[l].push_back(h);
+      const bool in_range = w >= 0 && h >= 0 && w < kCounted && h < kCounted;
+      counted[l] = counted[l] && in_range;
+      counts_w[l][in_range ? w : 0] += in_range;
+      counts_h[l][in_range ? h : 0] += in_range;
     }
   for (size_t l = 0; l < kSizeLevels; ++l)
   {
     median_w[l] = median_h[l] = 0.f;
-    std::vector<int>& ws = sizes_w_[l];
-    std::vector<int>& hs = sizes_h_[l];
-    if (ws.empty())
+    if (sizes_w_[l].empty())
       continue;
-    median_w[l] = static_cast<float>(upperMedian(ws));
-    median_h[l] = static_cast<float>(upperMedian(hs));
+    median_w[l] = static_cast<float>(upperMedian(sizes_w_[l], counts_w[l], counted[l]));
+    median_h[l] = static_cast<float>(upperMedian(sizes_h_[l], counts_h[l], counted[l]));
   }
 }
 
@@ -216,6 +223,7 @@ void Decoder::findCandidates(DecodeResult& result)
   rays_.resize(blobs.size());
   units_.resize(blobs.size());
   typical_.resize(blobs.size());
+  ranges_.resize(blobs.size());
   // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
   // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
   // Blobs split out of merged components were cut at a raised threshold: each level has its own
@@ -236,13 +244,15 @@ void Decoder::findCandidates(DecodeResult& result)
       continue;
     rays_[bi] = index_->cameraRay(b.u, b.v);
     units_[bi] = rays_[bi].normalized();
+    // The look-ups in the block table, ahead of their use (their cache misses overlap).
+    index_->candidates(b.u, b.v, b.shape, ranges_[bi].first, ranges_[bi].second);
   }
   size_t used = 0;  // cands_ is a buffer: its first `used` entries are this frame's
   for (size_t bi = 0; bi < blobs.size(); ++bi)
   {
     cand_begin_[bi] = static_cast<int32_t>(used);
     if (typical_[bi])
-      used = appendCandidates(blobs[bi], units_[bi], used);
+      used = appendCandidates(bi, units_[bi], used);
   }
   cand_begin_[blobs.size()] = static_cast<int32_t>(used);
   cands_.resize(used);
@@ -269,15 +279,14 @@ inline size_t Decoder::keepCandidate(int32_t p, const RayApproach& r, size_t use
   return used + !rejected;
 }
 
-inline size_t Decoder::appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used)
+inline size_t Decoder::appendCandidates(size_t bi, const Eigen::Vector3d& unit, size_t used)
 {
   CameraRayTerms cam;
   cam.o = index_->projectorOrigin();
   cam.fx = rig_.camera.fx;
   cam.d1 = unit;
   cam.d1o = cam.d1.dot(cam.o);
-  const int32_t *it, *end;
-  index_->candidates(b.u, b.v, b.shape, it, end);
+  const int32_t *it = ranges_[bi].first, *end = ranges_[bi].second;
   if (cands_.size() < used + static_cast<size_t>(end - it))
   {
     cands_.resize(std::max(cands_.capacity(), used + static_cast<size_t>(end - it)));  // no allocation once warm

@@ -296,22 +296,22 @@ inline void ShapeClassifier::decide(const float sums[6], Blob& blob) const
   const float inv = 1.f / std::sqrt(var);
   float best = -2.f, second = -2.f;
   int best_shape = 0;
+  // Selected without branches (which template wins is a coin toss per blob): the same as
+  // "if (c > best) second = best, best = c; else if (c > second) second = c", NaN and signed zeros
+  // included. second <= best throughout, so a new best pushes the old one to second.
   for (int k = 0; k < 4; ++k)
   {
     const float c = sums[2 + k] * inv;
-    if (c > best)
-    {
-      second = best;
-      best = c;
-      best_shape = k + 1;
-    }
-    else if (c > second)
-      second = c;
+    const float above_second = c > second ? c : second;
+    const int top = -static_cast<int>(c > best);  // all ones for a new best (a mask: GCC branched on a select)
+    best_shape ^= top & (best_shape ^ (k + 1));
+    second = best < above_second ? best : above_second;
+    best = c > best ? c : best;
   }
   blob.correlation = best;
   blob.margin = best - second;
-  if (best >= config_.min_correlation && blob.margin >= config_.min_margin)
-    blob.shape = best_shape;
+  const bool clear = (best >= config_.min_correlation) & (blob.margin >= config_.min_margin);
+  blob.shape = best_shape & -static_cast<int>(clear);
 }
 
 #if defined(__x86_64__)
@@ -411,6 +411,74 @@ __attribute__((target("avx2"))) void lightSumsAvx2(const uint8_t* origin, size_t
   sums[1] = _mm_extract_epi32(total, 1);
   sums[2] = _mm_extract_epi32(total, 2);
 }
+
+const uint8_t kZeroRow[16] = {};  // read in place of the row below an odd last row: weighs nothing
+
+/// Rows @p top and @p bottom, 16 bytes from each, as one register.
+__attribute__((target("avx2"))) inline __m256i loadRows16(const uint8_t* top, const uint8_t* bottom)
+{
+  return _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(top))),
+                                 _mm_loadu_si128(reinterpret_cast<const __m128i*>(bottom)), 1);
+}
+
+/// rimSum() for boxes 2 to 16 px wide and at least 2 high (the 16 bytes from each row's start in
+/// the image): the top and bottom rows in one SAD, the rows between two at a time, their first and
+/// last bytes picked by a mask.
+__attribute__((target("avx2"))) int rimSum16Avx2(const uint8_t* origin, size_t step, int bw, int bh)
+{
+  const __m128i col = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m128i ends = _mm_or_si128(_mm_cmpeq_epi8(col, _mm_setzero_si128()),
+                                    _mm_cmpeq_epi8(col, _mm_set1_epi8(static_cast<char>(bw - 1))));
+  const __m256i zero = _mm256_setzero_si256();
+  const __m256i inside = _mm256_broadcastsi128_si256(_mm_cmpgt_epi8(_mm_set1_epi8(static_cast<char>(bw)), col));
+  const __m256i sides = _mm256_broadcastsi128_si256(ends);
+  const uint8_t* bottom = origin + static_cast<size_t>(bh - 1) * step;
+  __m256i acc = _mm256_sad_epu8(_mm256_and_si256(loadRows16(origin, bottom), inside), zero);
+  for (const uint8_t* row = origin + step; row < bottom; row += 2 * step)
+  {
+    const uint8_t* next = row + step < bottom ? row + step : kZeroRow;
+    acc = _mm256_add_epi64(acc, _mm256_sad_epu8(_mm256_and_si256(loadRows16(row, next), sides), zero));
+  }
+  alignas(32) int64_t lanes[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), acc);
+  return static_cast<int>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+}
+
+/// lightSumsAvx2() for boxes at most 16 px wide, two rows at a time in bytes: w = the saturated
+/// byte difference; sum w and each row's sum by a SAD, sum w (x - x0) by a multiply-add of bytes
+/// (at most 2 * 255 * 15 per pair), sum w (y - y0) from the row sums. The 16 bytes from each row's
+/// start must be in the image; bh <= 256.
+__attribute__((target("avx2"))) void lightSums16Avx2(const uint8_t* origin, size_t step, int bw, int bh, int dark,
+                                                     int64_t sums[3])
+{
+  const __m128i col = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m256i cols = _mm256_broadcastsi128_si256(col), zero = _mm256_setzero_si256();
+  const __m256i inside = _mm256_broadcastsi128_si256(_mm_cmpgt_epi8(_mm_set1_epi8(static_cast<char>(bw)), col));
+  const __m256i dark8 = _mm256_set1_epi8(static_cast<char>(dark)), ones = _mm256_set1_epi16(1);
+  __m256i acc_w = zero, acc_x = zero, acc_y = zero;
+  __m256i dy = _mm256_setr_epi64x(0, 0, 1, 1);  // the row of each SAD lane: y in the low half, y + 1 high
+  const __m256i two = _mm256_set1_epi64x(2);
+  for (int y = 0; y < bh; y += 2, origin += 2 * step)
+  {
+    const __m256i v = loadRows16(origin, y + 1 < bh ? origin + step : kZeroRow);
+    const __m256i w = _mm256_and_si256(_mm256_subs_epu8(v, dark8), inside);
+    const __m256i row_sums = _mm256_sad_epu8(w, zero);
+    acc_w = _mm256_add_epi64(acc_w, row_sums);
+    acc_x = _mm256_add_epi32(acc_x, _mm256_madd_epi16(_mm256_maddubs_epi16(w, cols), ones));
+    acc_y = _mm256_add_epi64(acc_y, _mm256_mul_epu32(row_sums, dy));
+    dy = _mm256_add_epi64(dy, two);
+  }
+  alignas(32) int64_t w64[4], y64[4];
+  alignas(32) int32_t x32[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(w64), acc_w);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(y64), acc_y);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(x32), acc_x);
+  sums[0] = w64[0] + w64[1] + w64[2] + w64[3];
+  sums[1] = 0;
+  for (const int32_t x : x32)
+    sums[1] += x;
+  sums[2] = y64[0] + y64[1] + y64[2] + y64[3];
+}
 #endif
 
 #if defined(__SSE2__)
@@ -477,15 +545,23 @@ void ShapeClassifier::refineCentroid(const cv::Mat& image, Blob& blob, int margi
   const int bw = x1 - x0, bh = y1 - y0;
   const uint8_t* origin = image.ptr<uint8_t>(y0) + x0;
   const size_t step = image.step[0];
-  const int dark = darkLevel(rimSum(origin, step, bw, bh), bw, bh);
   // The vector sums read whole groups of columns (in the image); box sizes keep their lanes in int32.
   const bool small = bw < 128 && bh <= 256;
+#if defined(__x86_64__)
+  const bool narrow = avx2_ && bw <= 16 && x0 + 16 <= image.cols;  // one group of 16 columns
+  const int dark = darkLevel(narrow ? rimSum16Avx2(origin, step, bw, bh) : rimSum(origin, step, bw, bh), bw, bh);
+#else
+  const int dark = darkLevel(rimSum(origin, step, bw, bh), bw, bh);
+#endif
   int64_t sums[3];
   bool summed = false;
 #if defined(__x86_64__)
   if (avx2_ && small && x0 + (bw + 15) / 16 * 16 <= image.cols)
   {
-    lightSumsAvx2(origin, step, bw, bh, dark, sums);
+    if (narrow)
+      lightSums16Avx2(origin, step, bw, bh, dark, sums);
+    else
+      lightSumsAvx2(origin, step, bw, bh, dark, sums);
     summed = true;
   }
 #endif

@@ -342,12 +342,14 @@ TEST(BlobDetector, CentroidsWeighPixelsByValueMinusTheirWindowsMean)
   }
 }
 
-// The vector light sums take boxes up to 127 x 256 px: at full light within a black rim, their sums
-// are at their largest (int32 lanes), and the scalar sums take over beyond.
+// The vector light sums take boxes up to 127 x 256 px (16 px wide ones two rows at a time): at full
+// light within a black rim, their sums are at their largest (int32 lanes), and the scalar sums take
+// over beyond.
 TEST(ShapeClassifier, LargestBoxesGiveIdenticalCentroids)
 {
   ShapeClassifier classifier;
-  for (const cv::Size& size : { cv::Size(127, 256), cv::Size(126, 255), cv::Size(128, 256), cv::Size(127, 257) })
+  for (const cv::Size& size : { cv::Size(127, 256), cv::Size(126, 255), cv::Size(128, 256), cv::Size(127, 257),
+                                cv::Size(16, 256), cv::Size(15, 255), cv::Size(16, 257) })
   {
     cv::Mat image(300, 160, CV_8UC1, cv::Scalar(0));
     image(cv::Rect(1, 1, size.width - 2, size.height - 2)).setTo(255);

@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -125,9 +126,9 @@ private:
   void sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h);
   /// Blob level -> the index of its size statistics.
   static size_t levelOf(const Blob& b) { return std::min(static_cast<size_t>(b.level), kSizeLevels - 1); }
-  /// Writes the candidates of blob @p b (unit camera ray @p unit) into cands_ from @p used on,
-  /// growing the buffer as needed; returns the new count.
-  size_t appendCandidates(const Blob& b, const Eigen::Vector3d& unit, size_t used);
+  /// Writes the candidates of blob @p bi (unit camera ray @p unit, look-up ranges_) into cands_ from
+  /// @p used on, growing the buffer as needed; returns the new count.
+  size_t appendCandidates(size_t bi, const Eigen::Vector3d& unit, size_t used);
   /// Writes candidate @p p with approach @p r into slot @p used; returns @p used + 1 when it is
   /// one (in the depth range, within twice the epipolar tolerance), else @p used.
   size_t keepCandidate(int32_t p, const RayApproach& r, size_t used);
@@ -222,6 +223,7 @@ private:
   std::vector<Eigen::Vector3d> rays_;   // blob -> cameraRay of its centroid (typical_ blobs)
   std::vector<Eigen::Vector3d> units_;  // blob -> that ray normalised (typical_ blobs)
   std::vector<uint8_t> typical_;        // blob -> identified and of typical size: has candidates
+  std::vector<std::pair<const int32_t*, const int32_t*>> ranges_;  // blob -> EpipolarIndex::candidates()
   struct GridItem
   {
     float u, v;  // the blob's centroid, px

@@ -408,7 +408,8 @@ Path fastestPath()
 
 bool narrowSumsFit(int window)
 {
-  return window * window * 255 < 65536;
+  const int side = 2 * (window / 2) + 1;  // the window the threshold uses (an even one grows by 1)
+  return side * side * 255 < 65536;
 }
 
 void slidePrefixSums(int32_t* cols, const uint8_t* const* add, const uint8_t* const* sub, int32_t* const* pre, int n,
@@ -453,13 +454,6 @@ void thresholdRow(const RowInput& in, const RowConstants& c, Path path, uint64_t
     thresholdRowT(in, in.pre16, c, path, bits, weight);
   else
     thresholdRowT(in, in.pre, c, path, bits, weight);
-}
-
-void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight)
-{
-  RowConstants c;
-  rowConstants(in, c);
-  thresholdRow(in, c, path, bits, weight);
 }
 
 }  // namespace local_threshold

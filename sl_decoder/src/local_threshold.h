@@ -96,11 +96,10 @@ inline float weightOf(uint8_t value, int32_t sum, int x, int w, int r, int rows)
 /**
  * @brief Sets bit x of @p bits for the pixels brighter than their window's mean plus the offset,
  * and writes value - mean to weight[x] for those pixels (the others' weight is left unspecified).
+ * @param c the constants of rows like @p in (the same w, r, rows and offset), from rowConstants().
  * @param bits (w + 63) / 64 + 1 words, cleared here.
  * @param weight w values.
  */
-void thresholdRow(const RowInput& in, Path path, uint64_t* bits, float* weight);
-/// @brief The same with the constants of rows like @p in, formed once by rowConstants().
 void thresholdRow(const RowInput& in, const RowConstants& c, Path path, uint64_t* bits, float* weight);
 
 }  // namespace local_threshold

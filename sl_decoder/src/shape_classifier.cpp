@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -205,6 +207,11 @@ __attribute__((target("avx2"))) void sumRows8Avx2(const float* samples, int rows
 ShapeClassifier::ShapeClassifier(const DecoderConfig& config, int box_width, int box_height)
   : config_(config), tw_(config.template_width), th_(config.template_height)
 {
+  // The grid's columns and rows live in fixed arrays: a larger template must not reach them.
+  if (tw_ < 3 || tw_ > kMaxGrid)
+    throw std::invalid_argument("template_width: must be 3.." + std::to_string(kMaxGrid));
+  if (th_ < 3 || th_ > kMaxGrid)
+    throw std::invalid_argument("template_height: must be 3.." + std::to_string(kMaxGrid));
   for (int s = 1; s <= 4; ++s)
   {
     const cv::Mat t = sl_projector::shapeTemplate(s, tw_, th_, config.template_sigma, box_width, box_height);

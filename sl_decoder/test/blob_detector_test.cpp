@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include <opencv2/imgproc.hpp>
@@ -440,3 +441,23 @@ TEST(ShapeClassifier, CorrelationsKeepTheirBits)
     }
 }
 #endif
+
+// The classifier's grid lives in arrays of 64: a template beyond them is refused by name, also when
+// the config did not pass DecoderConfig::validate().
+TEST(ShapeClassifier, TemplateBeyondItsGridIsRefusedByName)
+{
+  DecoderConfig config;
+  config.template_width = 65;
+  try
+  {
+    ShapeClassifier classifier(config);
+    FAIL() << "a 65-wide template was accepted";
+  }
+  catch (const std::invalid_argument& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("template_width"), std::string::npos) << e.what();
+  }
+  config.template_width = 64;
+  config.template_height = 2;
+  EXPECT_THROW(ShapeClassifier{ config }, std::invalid_argument);
+}

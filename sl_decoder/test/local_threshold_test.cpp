@@ -57,7 +57,9 @@ void thresholdOf(const cv::Mat& image, int y, int window, Path path, std::vector
   in.offset = 2.5f;
   bits.assign(static_cast<size_t>((w + 63) / 64 + 1), 0);
   weight.assign(static_cast<size_t>(w), 0.f);
-  thresholdRow(in, path, bits.data(), weight.data());
+  RowConstants constants;
+  rowConstants(in, constants);
+  thresholdRow(in, constants, path, bits.data(), weight.data());
 }
 }  // namespace
 
@@ -66,6 +68,7 @@ TEST(LocalThreshold, NarrowSumsFitUpToAWindowOf15)
   EXPECT_TRUE(narrowSumsFit(3));
   EXPECT_TRUE(narrowSumsFit(15));
   EXPECT_FALSE(narrowSumsFit(17));
+  EXPECT_FALSE(narrowSumsFit(16)) << "an even window is one wider: 17 x 17";
 }
 
 TEST(LocalThreshold, SixteenBitSumsGiveTheThirtyTwoBitMasksAndWeights)

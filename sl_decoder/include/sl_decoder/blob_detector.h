@@ -22,9 +22,11 @@ struct RowInput;
  * @brief Finds candidate primitives: pixels brighter than their local mean by an offset, grouped
  * into 8-connected components, filtered for speckles, bands and oversized patches.
  *
- * Thresholding, run extraction and the centroid sums happen in one pass over the image, with the
- * local mean from running column sums; components are formed by union-find over runs. All buffers
- * are reused across calls: after the first image of a given size, detect() does not allocate.
+ * Thresholding and run extraction happen in one pass over the image, with the local mean from
+ * column sums slid down the image; components are formed by union-find over runs. A run keeps only
+ * its peak weight; centroids() weighs the pixels of the few blobs that need it again, from the
+ * image. All buffers are reused across calls: after the first images of a given size and content,
+ * detect() does not allocate.
  *
  * Near the camera, defocus and overexposure fill the gaps between primitives, so whole rows of them
  * come out as one component. With DecoderConfig::split_merged, a component too large for a

@@ -26,6 +26,7 @@ class ShapeClassifier
 {
 public:
   /// @brief Builds the templates for primitives of @p box_width x @p box_height projector px.
+  /// @throws std::invalid_argument naming template_width or template_height outside 3..64
   ShapeClassifier(const DecoderConfig& config = DecoderConfig(), int box_width = 5, int box_height = 9);
 
   /**

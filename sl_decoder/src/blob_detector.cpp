@@ -258,8 +258,8 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
   component_runs_.clear();
   kept_component_.clear();
   image_ = image;
+  boxes_.clear();
   split_pixels_ = 0;
-  components_ = 0;
   if (image.empty())
   {
     runs_.swap(component_runs_);  // the roles as after a labelling
@@ -401,7 +401,6 @@ void BlobDetector::formComponents()
     b.last = static_cast<int32_t>(i);
   }
   boxes_.resize(static_cast<size_t>(count));
-  components_ = count;
 }
 
 inline void BlobDetector::startBox(Box& b, const Run& run, int32_t first)

@@ -382,7 +382,7 @@ void thresholdRowT(const RowInput& in, const T* pre, const RowConstants& c, Path
     if (static_cast<int32_t>(in.src[e.x]) * e.area > sum + e.off)
     {
       bits[e.x >> 6] |= uint64_t{ 1 } << (e.x & 63);
-      weight[e.x] = static_cast<float>(in.src[e.x]) - static_cast<float>(sum) / static_cast<float>(e.area);
+      weight[e.x] = borderWeight(in.src[e.x], sum, e.area);
     }
   }
 }

@@ -78,6 +78,13 @@ struct RowConstants
 /// @brief Sets @p c for rows like @p in (its w, r, rows and offset; the pixels are not read).
 void rowConstants(const RowInput& in, RowConstants& c);
 
+/// @brief value - mean of a border pixel (the image edge cuts its window of @p area pixels): the
+/// one division both thresholdRow() and weightOf() use.
+inline float borderWeight(uint8_t value, int32_t sum, int32_t area)
+{
+  return static_cast<float>(value) - static_cast<float>(sum) / static_cast<float>(area);
+}
+
 /**
  * @brief value - mean of the pixel at column @p x of a row @p w wide: the same float operations as
  * thresholdRow() uses, so the same bits.
@@ -90,7 +97,7 @@ inline float weightOf(uint8_t value, int32_t sum, int x, int w, int r, int rows)
   if (x >= lo && x < hi)  // the interior: one area, multiplied by its inverse
     return v - static_cast<float>(sum) * (1.0f / static_cast<float>(rows * (2 * r + 1)));
   const int xa = x - r > 0 ? x - r : 0, xb = x + r + 1 < w ? x + r + 1 : w;
-  return v - static_cast<float>(sum) / static_cast<float>(rows * (xb - xa));
+  return borderWeight(value, sum, rows * (xb - xa));
 }
 
 /**

@@ -105,7 +105,7 @@ public:
   Simd useSimd(Simd simd);
 
   /// @brief Number of components found before filtering in the last call.
-  int componentCount() const { return components_; }
+  int componentCount() const { return static_cast<int>(boxes_.size()); }
 
   /// @brief Pixels re-thresholded while splitting oversized components in the last call: at most
   /// kLastLevel (5) times their area, so never more than 5 times the image.
@@ -222,7 +222,6 @@ private:
   std::vector<Box> boxes_;               // per component of detectBoxes()
   std::vector<int32_t> component_of_;    // per run: its component
   std::vector<int32_t> kept_component_;  // per blob of the last detectBoxes() that is a whole component
-  int components_ = 0;
   long split_pixels_ = 0;
   double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
   static constexpr int kLastLevel = 5;           // raised thresholds tried before cutting by the pitch

@@ -12,7 +12,8 @@ status=0
 # taskset pins each run to one core when it is available (the floors are for one core).
 pin=()
 command -v taskset >/dev/null && pin=(taskset -c 0)
-for bin in sl_sim/sl_sim_benchmark sl_evaluation/sl_decoder_benchmark sl_obstacle/sl_obstacle_benchmark; do
+for bin in sl_sim/sl_sim_benchmark sl_evaluation/sl_decoder_benchmark sl_obstacle/sl_obstacle_benchmark \
+           sl_navigation/sl_navigation_benchmark; do
   exe="$ws/devel/lib/$bin"
   name="$(basename "$bin")"
   if [[ ! -x "$exe" ]]; then

@@ -1,0 +1,135 @@
+/// @file navigator.h
+/// @brief The navigation supervisor: goals in, velocity commands out, on a persistent map fused from
+/// the local map; plans, replans, follows, and refuses what cannot be reached (ROS-free).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "sl_navigation/nav_grid.h"
+#include "sl_navigation/path_follower.h"
+#include "sl_navigation/planner.h"
+
+namespace sl_navigation
+{
+/// Parameters of the navigator. validate() names the ROS parameter of a bad value.
+struct NavigatorParams
+{
+  GridParams grid;          ///< the persistent map
+  PlannerParams planner;    ///< inflation and costs
+  FollowerParams follower;  ///< driving
+  double replan_period = 1.0;      ///< s between replans while the map changes (replan_period)
+  double progress_timeout = 30.0;  ///< s without getting progress_distance nearer: aborted (progress_timeout)
+  double progress_distance = 0.1;  ///< m of remaining path that count as progress
+  double refuse_time = 2.0;        ///< s a blocked or enclosed goal must stay so before it is aborted (refuse_time)
+  double switch_gain = 0.15;       ///< a new plan replaces a still passable one only when this much cheaper (share)
+
+  /// @throws std::invalid_argument naming the parameter.
+  void validate() const;
+};
+
+/// Where the navigator stands.
+enum class NavState : std::uint8_t
+{
+  IDLE = 0,       ///< no goal yet
+  ACTIVE = 1,     ///< driving to a goal
+  SUCCEEDED = 2,  ///< the last goal was reached
+  ABORTED = 3,    ///< the last goal was refused or could not be reached (see the reason)
+  CANCELLED = 4   ///< the last goal was cancelled or pre-empted
+};
+
+/// Short upper-case name of a state.
+const char* toString(NavState state);
+
+/// A goal in odom.
+struct NavGoal
+{
+  double x = 0.0;        ///< m
+  double y = 0.0;        ///< m
+  double yaw = 0.0;      ///< rad (used with use_yaw and yaw_tolerance > 0)
+  bool use_yaw = false;  ///< the goal's heading matters
+};
+
+/// One step's result.
+struct NavOutput
+{
+  NavState state = NavState::IDLE;
+  FollowMode mode = FollowMode::ARRIVED;
+  bool command = false;  ///< true: send (linear, angular); false: send nothing (idle)
+  double linear = 0.0;   ///< m/s
+  double angular = 0.0;  ///< rad/s
+  std::string reason;    ///< a sentence with the numbers
+  bool plan_changed = false;  ///< a new plan was made in this step
+  double goal_distance = std::numeric_limits<double>::quiet_NaN();  ///< m, straight line
+  double remaining = std::numeric_limits<double>::quiet_NaN();      ///< m of path left
+  double elapsed = 0.0;    ///< s since the goal was accepted
+  double travelled = 0.0;  ///< m driven since the goal was accepted
+};
+
+/**
+ * @brief Goal bookkeeping over the NavGrid, the Planner and the PathFollower.
+ *
+ * onMap() fuses each local window into the persistent map and keeps it as the execution window.
+ * step() plans when there is no plan, when the map changed and replan_period passed, or when the
+ * follower finds the path blocked; drives the plan; and ends the goal: SUCCEEDED within
+ * goal_tolerance, ABORTED when the goal is inside an obstacle or enclosed for refuse_time, or after
+ * progress_timeout without progress: neither the straight-line distance to the goal nor the path
+ * left shrank by progress_distance. A periodic replan replaces a plan that is still passable only
+ * when it is switch_gain cheaper, so the robot does not swing between two routes of similar cost. setGoal() refuses at once
+ * a non-finite goal or one outside the map. A new goal replaces the old one (which ends CANCELLED).
+ */
+class Navigator
+{
+public:
+  /// @throws std::invalid_argument for bad parameters.
+  explicit Navigator(const NavigatorParams& params = NavigatorParams());
+
+  /// A local occupancy window seen at @p stamp (s). @return false for a bad layout (ignored).
+  bool onMap(const OccupancyView& view, double stamp);
+  /// A new goal at @p now. @return empty when accepted, else the reason (the state is then ABORTED).
+  std::string setGoal(const NavGoal& goal, double now);
+  /// Cancels the running goal (the state becomes CANCELLED; the next step sends a stop).
+  void cancel(double now, const std::string& why);
+  /// One control step from @p pose (base_link in odom) at @p now.
+  const NavOutput& step(const Pose& pose, double now);
+
+  /// The state.
+  NavState state() const { return out_.state; }
+  /// The persistent map.
+  const NavGrid& grid() const { return grid_; }
+  /// The current plan (empty when none).
+  const Plan& plan() const { return plan_; }
+  /// The active or last goal.
+  const NavGoal& goal() const { return goal_; }
+  /// The parameters.
+  const NavigatorParams& params() const { return params_; }
+  /// True once a local window arrived.
+  bool hasMap() const { return has_map_; }
+
+private:
+  void end(NavState state, const std::string& reason);
+  bool replan(const Pose& pose, double now);
+  void track(const Pose& pose, double now);
+
+  NavigatorParams params_;
+  NavGrid grid_;
+  Planner planner_;
+  PathFollower follower_;
+  ExecWindow window_;
+  bool has_map_ = false;
+  NavGoal goal_;
+  Plan plan_;
+  NavOutput out_;
+  bool stop_pending_ = false;  // an ended goal still owes the driver one stop
+  double goal_time_ = 0.0;
+  double plan_time_ = -std::numeric_limits<double>::infinity();
+  std::uint64_t plan_version_ = 0;
+  double refuse_since_ = std::numeric_limits<double>::quiet_NaN();
+  double best_remaining_ = std::numeric_limits<double>::infinity();  // path left
+  double best_distance_ = std::numeric_limits<double>::infinity();   // straight line to the goal
+  double progress_time_ = 0.0;
+  bool has_last_pose_ = false;
+  Pose last_pose_;
+};
+}  // namespace sl_navigation

@@ -1,0 +1,162 @@
+/// @file path_follower.h
+/// @brief Drives along a planned path: pure pursuit on arcs, speed from the known-free travel
+/// (v <= sqrt(2 a (d - clearance))), and turning to look where the path ahead is unknown (ROS-free).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "sl_navigation/nav_grid.h"
+#include "sl_navigation/planner.h"
+
+namespace sl_navigation
+{
+/// A planar pose of base_link in odom.
+struct Pose
+{
+  double x = 0.0;    ///< m
+  double y = 0.0;    ///< m
+  double yaw = 0.0;  ///< rad, counter-clockwise from +x
+};
+
+/// Parameters of the path follower. validate() names the ROS parameter of a bad value.
+struct FollowerParams
+{
+  double max_speed = 0.3;           ///< m/s (max_speed); the Create drives up to 0.5
+  double min_speed = 0.05;          ///< m/s: creep speed where the known-free travel ends within the clearance
+  double max_angular = 1.2;         ///< rad/s while driving (max_angular_speed)
+  double turn_speed = 0.9;          ///< rad/s, the fastest turn in place (turn_speed)
+  double acceleration = 0.4;        ///< m/s^2, how fast the command's speed rises (acceleration)
+  double deceleration = 0.25;       ///< m/s^2, the a of v <= sqrt(2 a d) (the safety filter's)
+  double clearance = 0.2;           ///< m kept to obstacles and unknown space along the path (the safety filter's)
+  double swept_radius = 0.1875;     ///< m, robot radius + lateral margin (the safety filter's)
+  double lookahead = 0.35;          ///< m, pure-pursuit look-ahead along the path
+  double rotate_threshold = 0.8;    ///< rad: heading errors above this are turned in place first
+  double look_distance = 0.9;       ///< m of path checked for unknown cells to turn and look at
+  double look_min_distance = 0.45;  ///< m from base_link: nearer unknown cells lie in the camera's blind ring
+  double look_tolerance = 0.15;     ///< rad: facing an unknown cell this well counts as looking at it
+  double look_time = 1.0;           ///< s to wait facing an unknown cell before driving on (the filter decides)
+  double goal_tolerance = 0.10;     ///< m (goal_tolerance)
+  double yaw_tolerance = 0.0;       ///< rad; 0: the goal's heading is ignored (yaw_tolerance)
+
+  /// @throws std::invalid_argument naming the parameter.
+  void validate() const;
+};
+
+/// The latest local occupancy window (the obstacle node's local map): what the safety filter sees.
+class ExecWindow
+{
+public:
+  /// Copies @p view (nav_msgs/OccupancyGrid layout). @return false for a bad layout (kept as it was).
+  bool set(const OccupancyView& view);
+  /// -1 unknown (also outside), 0 free, 100 occupied, other values: suspect.
+  std::int8_t at(double x, double y) const;
+  /// True once a window was set.
+  bool valid() const { return width_ > 0; }
+  /// The window's cell size (m).
+  double resolution() const { return resolution_; }
+
+private:
+  std::vector<std::int8_t> data_;
+  int width_ = 0;
+  int height_ = 0;
+  double resolution_ = 0.02;
+  double origin_x_ = 0.0;
+  double origin_y_ = 0.0;
+};
+
+/// What the follower does in a step.
+enum class FollowMode : std::uint8_t
+{
+  DRIVE,    ///< driving along the path (arcs)
+  ROTATE,   ///< turning in place toward the path (large heading error) or to the goal's heading
+  LOOK,     ///< turning toward, or facing, an unknown part of the path ahead
+  BLOCKED,  ///< an obstacle on the path within the clearance: stopped (the caller replans)
+  ARRIVED   ///< within goal_tolerance (and yaw_tolerance)
+};
+
+/// Short upper-case name of a mode.
+const char* toString(FollowMode mode);
+
+/// One step's command and what it is based on.
+struct FollowCommand
+{
+  FollowMode mode = FollowMode::DRIVE;
+  double linear = 0.0;   ///< m/s
+  double angular = 0.0;  ///< rad/s
+  double free_travel = 0.0;  ///< m of the path ahead known free (swept disc) in the window
+  double obstacle_travel = std::numeric_limits<double>::infinity();  ///< m to the first occupied cell on the path
+  double remaining = 0.0;    ///< m of path left
+  double goal_distance = 0.0;  ///< m, straight line to the goal
+  std::string text;            ///< a sentence with the numbers
+};
+
+/**
+ * @brief Pure pursuit with the safety filter's rules.
+ *
+ * Each step projects the robot on the path (never backwards), sweeps the robot's disc along the path
+ * on the ExecWindow and takes the known-free travel d (the first cell not free, cells under the robot
+ * now excepted). Where an unknown cell of the path lies between look_min_distance and look_distance
+ * from the robot, it first turns to face it and waits look_time for the map (a cell is looked at
+ * once). Otherwise it drives toward the look-ahead point on an arc of curvature 2 sin(alpha) / L,
+ * with v <= max_speed, v <= sqrt(2 a (d - clearance)) (min_speed where only unknown space limits
+ * it: the filter decides), v <= max_angular / |curvature|, the rise limited by acceleration, and
+ * slowing toward the goal as v <= sqrt(2 a (goal distance)).
+ */
+class PathFollower
+{
+public:
+  /// @throws std::invalid_argument for bad parameters.
+  explicit PathFollower(const FollowerParams& params = FollowerParams());
+
+  /// Starts following @p path (start to goal); keeps the speed. @p goal_yaw is used when
+  /// @p use_yaw and yaw_tolerance > 0.
+  void setPath(const std::vector<Point>& path, double goal_yaw, bool use_yaw);
+  /// Forgets the path and the looked-at cells; the next command starts from standstill.
+  void reset();
+  /// One control step at @p now (s) from @p pose on @p window.
+  const FollowCommand& step(const Pose& pose, const ExecWindow& window, double now);
+  /// The parameters.
+  const FollowerParams& params() const { return params_; }
+  /// Index of the path point the robot last passed (the start of its current segment).
+  std::size_t index() const { return index_; }
+  /// The path being followed.
+  const std::vector<Point>& path() const { return path_; }
+
+private:
+  struct Sweep
+  {
+    double free = 0.0;
+    double obstacle = std::numeric_limits<double>::infinity();
+    double unknown = std::numeric_limits<double>::infinity();
+    Point unknown_at;
+  };
+  void project(const Pose& pose);
+  Sweep sweep(const Pose& pose, const ExecWindow& window) const;
+  Point pointAhead(double distance) const;
+  double remaining() const;
+  bool lookAt(const Pose& pose, const Sweep& s, double now);
+  void rotateTo(double error, FollowMode mode);
+  void drive(const Pose& pose, const Sweep& s, double dt);
+  bool looked(const Point& p) const;
+
+  FollowerParams params_;
+  std::vector<Point> path_;
+  std::vector<double> along_;  // path length from the start to each point
+  std::size_t index_ = 0;      // the segment [index_, index_ + 1] the robot is on
+  double offset_ = 0.0;        // the projection's travel within that segment
+  double goal_yaw_ = 0.0;
+  bool use_yaw_ = false;
+  double last_time_ = std::numeric_limits<double>::quiet_NaN();
+  double speed_ = 0.0;  // last commanded linear speed
+  bool facing_ = false;
+  double facing_since_ = 0.0;
+  std::vector<Point> looked_;  // unknown cells already looked at on this path
+  FollowCommand out_;
+};
+
+/// Wraps an angle to (-pi, pi].
+double wrapAngle(double a);
+}  // namespace sl_navigation

@@ -1,0 +1,259 @@
+#include "sl_navigation/navigator.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "validation.h"
+
+namespace sl_navigation
+{
+void NavigatorParams::validate() const
+{
+  grid.validate();
+  planner.validate();
+  follower.validate();
+  detail::requireRange("replan_period", replan_period, 0.05, 60.0);
+  detail::requireRange("progress_timeout", progress_timeout, 1.0, 3600.0);
+  detail::requireRange("progress_distance", progress_distance, 0.01, 10.0);
+  detail::requireRange("refuse_time", refuse_time, 0.0, 60.0);
+  detail::requireRange("switch_gain", switch_gain, 0.0, 10.0);
+}
+
+const char* toString(NavState state)
+{
+  switch (state)
+  {
+    case NavState::IDLE:
+      return "IDLE";
+    case NavState::ACTIVE:
+      return "ACTIVE";
+    case NavState::SUCCEEDED:
+      return "SUCCEEDED";
+    case NavState::ABORTED:
+      return "ABORTED";
+    case NavState::CANCELLED:
+      return "CANCELLED";
+  }
+  return "?";
+}
+
+namespace
+{
+GridParams checked(const NavigatorParams& p)
+{
+  p.validate();
+  return p.grid;
+}
+}  // namespace
+
+Navigator::Navigator(const NavigatorParams& params)
+  : params_(params)
+  , grid_(checked(params))
+  , planner_(params.planner, grid_.width())
+  , follower_(params.follower)
+{
+  out_.reason = "idle: waiting for a goal";
+}
+
+bool Navigator::onMap(const OccupancyView& view, double stamp)
+{
+  if (!window_.set(view))
+  {
+    return false;
+  }
+  if (!has_map_)
+  {
+    grid_.reset(view.origin_x + 0.5 * view.width * view.resolution, view.origin_y + 0.5 * view.height * view.resolution);
+    has_map_ = true;
+  }
+  return grid_.fuse(view, stamp);
+}
+
+std::string Navigator::setGoal(const NavGoal& goal, double now)
+{
+  if (out_.state == NavState::ACTIVE)
+  {
+    end(NavState::CANCELLED, "pre-empted by a new goal");
+  }
+  char text[200];
+  if (!std::isfinite(goal.x) || !std::isfinite(goal.y) || (goal.use_yaw && !std::isfinite(goal.yaw)))
+  {
+    std::snprintf(text, sizeof(text), "goal refused: not finite (x %g, y %g, yaw %g)", goal.x, goal.y, goal.yaw);
+    end(NavState::ABORTED, text);
+    return out_.reason;
+  }
+  if (has_map_ && !grid_.contains(goal.x, goal.y))
+  {
+    std::snprintf(text, sizeof(text), "goal refused: (%.2f, %.2f) lies outside the map (%.0f x %.0f m around (%.2f, %.2f))",
+                  goal.x, goal.y, params_.grid.size, params_.grid.size, grid_.originX() + 0.5 * params_.grid.size,
+                  grid_.originY() + 0.5 * params_.grid.size);
+    end(NavState::ABORTED, text);
+    return out_.reason;
+  }
+  goal_ = goal;
+  plan_ = Plan();
+  follower_.reset();
+  out_ = NavOutput();
+  out_.state = NavState::ACTIVE;
+  std::snprintf(text, sizeof(text), "goal (%.2f, %.2f) accepted", goal.x, goal.y);
+  out_.reason = text;
+  stop_pending_ = false;
+  goal_time_ = now;
+  plan_time_ = -std::numeric_limits<double>::infinity();
+  refuse_since_ = std::numeric_limits<double>::quiet_NaN();
+  best_remaining_ = std::numeric_limits<double>::infinity();
+  best_distance_ = std::numeric_limits<double>::infinity();
+  progress_time_ = now;
+  has_last_pose_ = false;
+  return std::string();
+}
+
+void Navigator::cancel(double /*now*/, const std::string& why)
+{
+  if (out_.state == NavState::ACTIVE)
+  {
+    end(NavState::CANCELLED, why);
+  }
+}
+
+void Navigator::end(NavState state, const std::string& reason)
+{
+  out_.state = state;
+  out_.reason = reason;
+  stop_pending_ = true;
+  follower_.reset();
+}
+
+bool Navigator::replan(const Pose& pose, double now)
+{
+  planner_.update(grid_, now);
+  Plan p = planner_.plan(grid_, pose.x, pose.y, goal_.x, goal_.y);
+  plan_time_ = now;
+  plan_version_ = grid_.version();
+  if (p.status == PlanStatus::OK)
+  {
+    if (!plan_.points.empty() && plan_.status == PlanStatus::OK)
+    {
+      const double kept = planner_.pathCost(grid_, plan_.points, follower_.index());
+      if (std::isfinite(kept) && p.cost * (1.0 + params_.switch_gain) > kept)
+      {
+        refuse_since_ = std::numeric_limits<double>::quiet_NaN();
+        return true;  // the current plan is still passable and about as good: keep it
+      }
+    }
+    plan_ = std::move(p);
+    follower_.setPath(plan_.points, goal_.yaw, goal_.use_yaw);
+    refuse_since_ = std::numeric_limits<double>::quiet_NaN();
+    out_.plan_changed = true;
+    return true;
+  }
+  plan_.status = p.status;
+  plan_.text = p.text;
+  const bool refuse_now = p.status == PlanStatus::START_OUTSIDE || p.status == PlanStatus::GOAL_OUTSIDE;
+  if (std::isnan(refuse_since_))
+  {
+    refuse_since_ = now;
+  }
+  if (refuse_now || now - refuse_since_ >= params_.refuse_time)
+  {
+    end(NavState::ABORTED, std::string("goal aborted: ") + p.text);
+  }
+  return false;
+}
+
+void Navigator::track(const Pose& pose, double now)
+{
+  if (has_last_pose_)
+  {
+    out_.travelled += std::hypot(pose.x - last_pose_.x, pose.y - last_pose_.y);
+  }
+  last_pose_ = pose;
+  has_last_pose_ = true;
+  out_.elapsed = now - goal_time_;
+}
+
+const NavOutput& Navigator::step(const Pose& pose, double now)
+{
+  out_.plan_changed = false;
+  if (has_map_)
+  {
+    const double body = params_.planner.robot_radius - 0.71 * params_.grid.resolution;
+    grid_.markFree(pose.x, pose.y, body, now);
+  }
+  if (out_.state != NavState::ACTIVE)
+  {
+    out_.command = stop_pending_;
+    out_.linear = 0.0;
+    out_.angular = 0.0;
+    stop_pending_ = false;
+    return out_;
+  }
+  track(pose, now);
+  out_.command = true;
+  out_.linear = 0.0;
+  out_.angular = 0.0;
+  if (!has_map_)
+  {
+    out_.reason = "waiting for the local map";
+    return out_;
+  }
+  const bool stale_plan = plan_.points.empty() || plan_.status != PlanStatus::OK ||
+                          (grid_.version() != plan_version_ && now - plan_time_ >= params_.replan_period);
+  if (stale_plan && !replan(pose, now))
+  {
+    if (out_.state == NavState::ACTIVE)
+    {
+      out_.reason = "no plan yet: " + plan_.text;
+    }
+    out_.command = true;
+    return out_;
+  }
+  FollowCommand c = follower_.step(pose, window_, now);
+  if (c.mode == FollowMode::BLOCKED && now - plan_time_ >= 0.5)
+  {
+    if (replan(pose, now))
+    {
+      c = follower_.step(pose, window_, now);
+    }
+    else if (out_.state != NavState::ACTIVE)
+    {
+      out_.command = true;
+      return out_;
+    }
+  }
+  out_.mode = c.mode;
+  out_.goal_distance = c.goal_distance;
+  out_.remaining = c.remaining;
+  char text[320];
+  if (c.mode == FollowMode::ARRIVED)
+  {
+    std::snprintf(text, sizeof(text), "goal reached: %.3f m from (%.2f, %.2f) after %.1f s and %.2f m",
+                  c.goal_distance, goal_.x, goal_.y, out_.elapsed, out_.travelled);
+    end(NavState::SUCCEEDED, text);
+    out_.command = true;
+    stop_pending_ = false;
+    return out_;
+  }
+  if (c.goal_distance < best_distance_ - params_.progress_distance ||
+      c.remaining < best_remaining_ - params_.progress_distance)
+  {
+    best_distance_ = std::min(best_distance_, c.goal_distance);
+    best_remaining_ = std::min(best_remaining_, c.remaining);
+    progress_time_ = now;
+  }
+  else if (now - progress_time_ > params_.progress_timeout)
+  {
+    std::snprintf(text, sizeof(text),
+                  "goal aborted: no progress for %.0f s (%.2f m of path left, %.2f m straight): unreachable from here",
+                  params_.progress_timeout, c.remaining, c.goal_distance);
+    end(NavState::ABORTED, text);
+    out_.command = true;
+    stop_pending_ = false;
+    return out_;
+  }
+  out_.linear = c.linear;
+  out_.angular = c.angular;
+  out_.reason = c.text;
+  return out_;
+}
+}  // namespace sl_navigation

@@ -1,0 +1,201 @@
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sl_navigation/navigator.h"
+#include "test_world.h"
+
+using namespace sl_navigation;
+using sl_navigation_test::World;
+
+namespace
+{
+constexpr double kRadius = 0.1675;
+
+/// Runs the navigator on a kinematic robot in @p world until the goal ends or @p limit s pass.
+struct LoopRun
+{
+  NavState state = NavState::ACTIVE;
+  std::string reason;
+  double time = 0.0;
+  double travelled = 0.0;
+  double moving_time = 0.0;
+  double min_clearance = std::numeric_limits<double>::infinity();
+  double mode_time[5] = { 0, 0, 0, 0, 0 };  // per FollowMode
+  Pose pose;
+};
+
+LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit)
+{
+  LoopRun r;
+  std::vector<std::int8_t> memory, data;
+  OccupancyView view;
+  const double dt = 0.05;
+  double t = 100.0;
+  const double start = t;
+  for (int k = 0; t - start < limit; ++k, t += dt)
+  {
+    if (k % 10 == 0)  // the obstacle node publishes its map at 2 Hz
+    {
+      world.sense(pose, memory, data, view);
+      nav.onMap(view, t);
+    }
+    const NavOutput& out = nav.step(pose, t);
+    if (out.state != NavState::ACTIVE)
+    {
+      r.state = out.state;
+      r.reason = out.reason;
+      break;
+    }
+    r.mode_time[static_cast<int>(out.mode)] += dt;
+    const Pose before = pose;
+    World::move(pose, out.linear, out.angular, dt);
+    const double step = std::hypot(pose.x - before.x, pose.y - before.y);
+    r.travelled += step;
+    r.moving_time += step > 1e-4 ? dt : 0.0;
+    r.min_clearance = std::min(r.min_clearance, world.clearance(pose.x, pose.y, kRadius));
+    r.reason = out.reason;
+    if (std::getenv("NAV_TRACE") && k % 20 == 0)
+    {
+      std::printf("  t %.1f (%.2f, %.2f, %.2f) %s\n", t - start, pose.x, pose.y, pose.yaw, out.reason.c_str());
+    }
+  }
+  r.time = t - start;
+  r.pose = pose;
+  return r;
+}
+
+/// A 6 x 5 m room split by a wall with a 0.8 m door, a table leg and a box on the far side.
+World furnishedRooms()
+{
+  World w;
+  w.box(-3.0, -2.6, 3.0, -2.5);  // outer walls
+  w.box(-3.0, 2.5, 3.0, 2.6);
+  w.box(-3.1, -2.6, -3.0, 2.6);
+  w.box(3.0, -2.6, 3.1, 2.6);
+  w.box(0.0, -2.5, 0.1, 0.3);  // the dividing wall, door at y in (0.3, 1.1)
+  w.box(0.0, 1.1, 0.1, 2.5);
+  w.post(1.2, 0.9, 0.02);      // a table leg
+  w.box(1.6, -1.5, 2.2, -0.9);  // a box
+  return w;
+}
+
+NavigatorParams params()
+{
+  NavigatorParams p;
+  p.grid.size = 12.0;
+  return p;
+}
+}  // namespace
+
+TEST(Navigator, ReachesAGoalThroughADoorWithoutTouchingAnything)
+{
+  const World world = furnishedRooms();
+  for (const NavGoal& goal : { NavGoal{ 2.2, 0.0, 0.0, false }, NavGoal{ 2.4, 1.8, 0.0, false },
+                               NavGoal{ 1.0, -2.0, 0.0, false } })
+  {
+    Navigator nav(params());
+    Pose start;
+    start.x = -2.0;
+    start.y = -1.0;
+    ASSERT_TRUE(nav.setGoal(goal, 100.0).empty());
+    const LoopRun r = drive(nav, world, start, 120.0);
+    std::printf("goal (%.1f, %.1f): %s in %.1f s, %.2f m, %.2f m/s while moving, min clearance %.3f m\n", goal.x,
+                goal.y, toString(r.state), r.time, r.travelled, r.travelled / std::max(r.moving_time, 1e-9),
+                r.min_clearance);
+    std::printf("  time per mode: drive %.1f s, rotate %.1f s, look %.1f s, blocked %.1f s\n", r.mode_time[0],
+                r.mode_time[1], r.mode_time[2], r.mode_time[3]);
+    EXPECT_EQ(r.state, NavState::SUCCEEDED) << r.reason;
+    EXPECT_LE(std::hypot(r.pose.x - goal.x, r.pose.y - goal.y), nav.params().follower.goal_tolerance + 0.02);
+    EXPECT_GT(r.min_clearance, 0.0);
+    EXPECT_GT(r.travelled / r.moving_time, 0.08);  // measured 0.10..0.15 (creeping through the blind ring)
+  }
+}
+
+TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
+{
+  const World world = furnishedRooms();
+  Navigator nav(params());
+  Pose start;
+  start.x = 0.8;
+  start.y = -2.0;
+  ASSERT_TRUE(nav.setGoal(NavGoal{ 1.9, -1.2, 0.0, false }, 100.0).empty());  // the middle of the box
+  const LoopRun r = drive(nav, world, start, 65.0);
+  std::printf("goal inside the box: %s after %.1f s: %s\n", toString(r.state), r.time, r.reason.c_str());
+  EXPECT_EQ(r.state, NavState::ABORTED);
+  const bool why = r.reason.find("inside an object") != std::string::npos ||
+                   r.reason.find("enclosed") != std::string::npos;
+  EXPECT_TRUE(why) << r.reason;
+  EXPECT_LE(r.time, 2.0 * nav.params().progress_timeout);  // measured 40 s: once its walls are seen
+  EXPECT_GT(r.min_clearance, 0.0);
+}
+
+TEST(Navigator, AbortsAGoalBehindAClosedWallWithinTheBound)
+{
+  World world;
+  world.box(-1.5, -1.5, 1.5, -1.4);  // a closed 3 x 3 m room around the start
+  world.box(-1.5, 1.4, 1.5, 1.5);
+  world.box(-1.5, -1.5, -1.4, 1.5);
+  world.box(1.4, -1.5, 1.5, 1.5);
+  Navigator nav(params());
+  ASSERT_TRUE(nav.setGoal(NavGoal{ 3.0, 0.0, 0.0, false }, 100.0).empty());
+  const LoopRun r = drive(nav, world, Pose(), 60.0);
+  std::printf("goal behind a closed wall: %s after %.1f s: %s\n", toString(r.state), r.time, r.reason.c_str());
+  EXPECT_EQ(r.state, NavState::ABORTED);
+  EXPECT_LE(r.time, 2.0 * nav.params().progress_timeout);  // progress_timeout after its closest approach
+  EXPECT_GT(r.min_clearance, 0.0);
+}
+
+TEST(Navigator, RefusesBadGoalsAtOnceAndSendsOneStop)
+{
+  Navigator nav(params());
+  std::vector<std::int8_t> data(100 * 100, 0);
+  OccupancyView v;
+  v.data = data.data();
+  v.width = v.height = 100;
+  v.resolution = 0.02;
+  v.origin_x = v.origin_y = -1.0;
+  ASSERT_TRUE(nav.onMap(v, 1.0));
+  const std::string nan_reason = nav.setGoal(NavGoal{ std::nan(""), 0.0, 0.0, false }, 1.0);
+  EXPECT_NE(nan_reason.find("not finite"), std::string::npos) << nan_reason;
+  EXPECT_EQ(nav.state(), NavState::ABORTED);
+  const std::string far = nav.setGoal(NavGoal{ 50.0, 0.0, 0.0, false }, 1.0);
+  EXPECT_NE(far.find("outside the map"), std::string::npos) << far;
+  const std::string inf_yaw = nav.setGoal(NavGoal{ 1.0, 0.0, std::numeric_limits<double>::infinity(), true }, 1.0);
+  EXPECT_FALSE(inf_yaw.empty());
+  const NavOutput& out = nav.step(Pose(), 1.1);
+  EXPECT_TRUE(out.command);  // one stop for the refused goal
+  EXPECT_EQ(out.linear, 0.0);
+  EXPECT_FALSE(nav.step(Pose(), 1.2).command);  // then silence
+}
+
+TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops)
+{
+  Navigator nav(params());
+  std::vector<std::int8_t> data(200 * 200, 0);
+  OccupancyView v;
+  v.data = data.data();
+  v.width = v.height = 200;
+  v.resolution = 0.02;
+  v.origin_x = v.origin_y = -2.0;
+  ASSERT_TRUE(nav.onMap(v, 1.0));
+  ASSERT_TRUE(nav.setGoal(NavGoal{ 1.5, 0.0, 0.0, false }, 1.0).empty());
+  EXPECT_GT(nav.step(Pose(), 1.1).linear, 0.0);
+  ASSERT_TRUE(nav.setGoal(NavGoal{ -1.5, 0.0, 0.0, false }, 1.2).empty());
+  const NavOutput& turn = nav.step(Pose(), 1.3);
+  EXPECT_EQ(turn.state, NavState::ACTIVE);
+  EXPECT_EQ(turn.linear, 0.0);  // the new goal lies behind: it turns first
+  EXPECT_NE(turn.angular, 0.0);
+  nav.cancel(1.4, "cancelled by the test");
+  const NavOutput& stop = nav.step(Pose(), 1.5);
+  EXPECT_EQ(stop.state, NavState::CANCELLED);
+  EXPECT_TRUE(stop.command);
+  EXPECT_EQ(stop.linear, 0.0);
+  EXPECT_EQ(stop.angular, 0.0);
+  EXPECT_EQ(stop.reason, "cancelled by the test");
+}

@@ -203,6 +203,22 @@ void NavGrid::markFree(double x, double y, double radius, double stamp)
   ++version_;
 }
 
+void NavGrid::snapshot(double now, std::vector<Cell>& out) const
+{
+  out.resize(state_.size());
+  const double base = std::isnan(base_time_) ? now : base_time_;
+  const float t = static_cast<float>(now - base);
+  const float free_limit = static_cast<float>(params_.free_persistence);
+  const float occupied_limit = static_cast<float>(params_.occupied_persistence);
+  for (std::size_t i = 0; i < state_.size(); ++i)
+  {
+    const Cell c = state_[i];
+    const float age = t - seen_[i];
+    const bool expired = c == Cell::Free ? age > free_limit : (c == Cell::Occupied && age > occupied_limit);
+    out[i] = expired ? Cell::Unknown : c;
+  }
+}
+
 void NavGrid::toOccupancy(double now, std::vector<std::int8_t>& out) const
 {
   out.resize(state_.size());

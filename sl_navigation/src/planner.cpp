@@ -14,6 +14,8 @@ namespace
 constexpr float kOccupied = -1.0f;  // factor of an occupied cell: never entered
 constexpr float kLethal = 0.0f;     // factor of a lethal cell: entered only to escape from the start
 constexpr float kSqrt2 = 1.41421356f;
+constexpr int kDx[8] = { 1, -1, 0, 0, 1, 1, -1, -1 };  // the four sides first, then the diagonals
+constexpr int kDy[8] = { 0, 0, 1, -1, 1, -1, 1, -1 };
 constexpr double kEnclosureReach = 1.5;  // m searched from an unknown goal for the walls of an object around it
 }  // namespace
 
@@ -63,20 +65,30 @@ Planner::Planner(const PlannerParams& params, int width) : params_(params), n_(w
   parent_.assign(cells, 0);
   gen_.assign(cells, 0);
   closed_.assign(cells, 0);
-  heap_.reserve(cells / 4);
+  buckets_.resize(1024);
 }
 
 void Planner::brushfire(const NavGrid& grid)
 {
+  // Distances to the obstacle cell's centre come from a table of sqrt(dx^2 + dy^2) in cells.
   const float cap = static_cast<float>(params_.inflation_radius);
+  const float res = static_cast<float>(grid.params().resolution);
+  const int reach = static_cast<int>(std::ceil(params_.inflation_radius / grid.params().resolution)) + 1;
+  if (static_cast<int>(root_.size()) != 2 * reach * reach + 1)
+  {
+    root_.resize(2 * reach * reach + 1);
+    for (std::size_t k = 0; k < root_.size(); ++k)
+    {
+      root_[k] = res * std::sqrt(static_cast<float>(k));
+    }
+  }
   std::fill(dist_.begin(), dist_.end(), cap);
-  std::size_t head = 0;
-  for (std::size_t i : queue_)
+  for (std::uint32_t i : queue_)
   {
     dist_[i] = 0.0f;
-    near_[i] = static_cast<std::uint32_t>(i);
+    near_[i] = i;
   }
-  const float res = static_cast<float>(grid.params().resolution);
+  std::size_t head = 0;
   while (head < queue_.size())
   {
     const std::uint32_t i = queue_[head++];
@@ -87,16 +99,26 @@ void Planner::brushfire(const NavGrid& grid)
     const int oy = static_cast<int>(o / n_);
     for (int dy = -1; dy <= 1; ++dy)
     {
+      const int ny = iy + dy;
+      if (ny < 0 || ny >= n_)
+      {
+        continue;
+      }
       for (int dx = -1; dx <= 1; ++dx)
       {
         const int nx = ix + dx;
-        const int ny = iy + dy;
-        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= n_ || ny >= n_)
+        if ((dx == 0 && dy == 0) || nx < 0 || nx >= n_)
+        {
+          continue;
+        }
+        const int ex = std::abs(nx - ox);
+        const int ey = std::abs(ny - oy);
+        if (ex >= reach || ey >= reach)
         {
           continue;
         }
         const std::size_t j = index(nx, ny);
-        const float d = res * std::hypot(static_cast<float>(nx - ox), static_cast<float>(ny - oy));
+        const float d = root_[ex * ex + ey * ey];
         if (d < dist_[j] && d < cap)
         {
           dist_[j] = d;
@@ -115,39 +137,36 @@ void Planner::update(const NavGrid& grid, double now)
     detail::requireRange("map_size (grid and planner differ)", grid.width(), n_, n_);
   }
   resolution_ = grid.params().resolution;
+  grid.snapshot(now, cells_);
   queue_.clear();
-  for (int iy = 0; iy < n_; ++iy)
+  for (std::size_t i = 0; i < cells_.size(); ++i)
   {
-    for (int ix = 0; ix < n_; ++ix)
+    unknown_[i] = cells_[i] == Cell::Unknown ? 1 : 0;
+    if (cells_[i] == Cell::Occupied)
     {
-      const Cell c = grid.cell(ix, iy, now);
-      unknown_[index(ix, iy)] = c == Cell::Unknown ? 1 : 0;
-      if (c == Cell::Occupied)
-      {
-        queue_.push_back(static_cast<std::uint32_t>(index(ix, iy)));
-      }
+      queue_.push_back(static_cast<std::uint32_t>(i));
     }
   }
   const std::size_t occupied = queue_.size();
   brushfire(grid);
   const float lethal = static_cast<float>(params_.lethalDistance());
-  const float span = std::max(1e-3f, static_cast<float>(params_.inflation_radius) - lethal);
-  const float k = static_cast<float>(params_.obstacle_cost);
+  const float inflation = static_cast<float>(params_.inflation_radius);
+  const float slope = static_cast<float>(params_.obstacle_cost) / std::max(1e-3f, inflation - lethal);
   const float unknown_extra = static_cast<float>(params_.unknown_cost);
   for (std::size_t i = 0; i < factor_.size(); ++i)
   {
     const float d = dist_[i];
-    if (d < lethal)
-    {
-      factor_[i] = kLethal;
-      continue;
-    }
-    const float near = std::max(0.0f, (static_cast<float>(params_.inflation_radius) - d) / span);
-    factor_[i] = 1.0f + k * near + (unknown_[i] ? unknown_extra : 0.0f);
+    const float near = std::max(0.0f, inflation - d) * slope;
+    factor_[i] = d < lethal ? kLethal : 1.0f + near + (unknown_[i] ? unknown_extra : 0.0f);
   }
   for (std::size_t q = 0; q < occupied; ++q)
   {
     factor_[queue_[q]] = kOccupied;
+  }
+  // The map's border ring is never entered: the search needs no bounds checks.
+  for (int k = 0; k < n_; ++k)
+  {
+    factor_[index(k, 0)] = factor_[index(k, n_ - 1)] = factor_[index(0, k)] = factor_[index(n_ - 1, k)] = kOccupied;
   }
 }
 
@@ -287,6 +306,11 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
     std::fill(closed_.begin(), closed_.end(), 0);
     generation_ = 1;
   }
+  std::ptrdiff_t offset[8];
+  for (int k = 0; k < 8; ++k)
+  {
+    offset[k] = static_cast<std::ptrdiff_t>(kDy[k]) * n_ + kDx[k];
+  }
   const int six = static_cast<int>(start % n_);
   const int siy = static_cast<int>(start / n_);
   const float res = static_cast<float>(resolution_);
@@ -297,21 +321,37 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
     const float dy = static_cast<float>(std::abs(iy - giy));
     return res * (std::max(dx, dy) + (kSqrt2 - 1.0f) * std::min(dx, dy));
   };
-  // std::push_heap builds a max-heap: invert the order for the smallest f on top.
-  const auto by_f = [](const Open& a, const Open& b) { return a.f > b.f; };
-  heap_.clear();
+  // A bucket queue on f (buckets of a quarter cell of cost): O(1) per push and pop; entries of one
+  // bucket come out in any order, so a path may cost up to a quarter cell more than the cheapest.
+  const float weight = static_cast<float>(params_.heuristic_weight);
+  const float f0 = weight * heuristic(six, siy);
+  const float inv_width = 4.0f / res;
+  std::size_t current = 0;
+  std::size_t pending = 0;
+  auto push = [&](float f, float g, std::uint32_t cell) {
+    const std::size_t b = std::max(current, static_cast<std::size_t>(std::max(0.0f, (f - f0) * inv_width)));
+    if (b >= buckets_.size())
+    {
+      buckets_.resize(b + 64);
+    }
+    buckets_[b].push_back({ f, g, cell });
+    ++pending;
+  };
   g_[start] = 0.0f;
   parent_[start] = static_cast<std::uint32_t>(start);
   gen_[start] = generation_;
-  const float weight = static_cast<float>(params_.heuristic_weight);
-  heap_.push_back({ weight * heuristic(six, siy), 0.0f, static_cast<std::uint32_t>(start) });
+  push(f0, 0.0f, static_cast<std::uint32_t>(start));
   int expansions = 0;
   bool found = false;
-  while (!heap_.empty())
+  while (pending > 0)
   {
-    std::pop_heap(heap_.begin(), heap_.end(), by_f);
-    const Open top = heap_.back();
-    heap_.pop_back();
+    while (buckets_[current].empty())
+    {
+      ++current;
+    }
+    const Open top = buckets_[current].back();
+    buckets_[current].pop_back();
+    --pending;
     const std::uint32_t i = top.i;
     const int ix = static_cast<int>(i % n_);
     const int iy = static_cast<int>(i / n_);
@@ -327,41 +367,37 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
       found = true;
       break;
     }
-    for (int dy = -1; dy <= 1; ++dy)
+    const float fi = std::max(factor_[i], 1.0f);
+    for (int k = 0; k < 8; ++k)
     {
-      for (int dx = -1; dx <= 1; ++dx)
+      const int nx = ix + kDx[k];
+      const int ny = iy + kDy[k];
+      const std::size_t j = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(i) + offset[k]);
+      float f = factor_[j];
+      if (f <= 0.0f)
       {
-        const int nx = ix + dx;
-        const int ny = iy + dy;
-        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= n_ || ny >= n_)
+        const float ex = static_cast<float>(nx - six);
+        const float ey = static_cast<float>(ny - siy);
+        if (f == kOccupied || ex * ex + ey * ey > escape_cells * escape_cells || factor_[i] > 0.0f)
         {
-          continue;
+          continue;  // lethal: only a start inside a lethal zone may leave it
         }
-        const std::size_t j = index(nx, ny);
-        float f = factor_[j];
-        if (f <= 0.0f)
-        {
-          const float ex = static_cast<float>(nx - six);
-          const float ey = static_cast<float>(ny - siy);
-          if (f == kOccupied || ex * ex + ey * ey > escape_cells * escape_cells || factor_[i] > 0.0f)
-          {
-            continue;  // lethal: only a start inside a lethal zone may leave it
-          }
-          f = escape_factor;
-        }
-        const float step = (dx != 0 && dy != 0 ? kSqrt2 : 1.0f) * res * 0.5f * (f + std::max(factor_[i], 1.0f));
-        const float gj = gi + step;
-        if (gen_[j] == generation_ && (gj >= g_[j] || closed_[j] == generation_))
-        {
-          continue;
-        }
-        gen_[j] = generation_;
-        g_[j] = gj;
-        parent_[j] = i;
-        heap_.push_back({ gj + weight * heuristic(nx, ny), gj, static_cast<std::uint32_t>(j) });
-        std::push_heap(heap_.begin(), heap_.end(), by_f);
+        f = escape_factor;
       }
+      const float gj = gi + (k < 4 ? res : res * kSqrt2) * 0.5f * (f + fi);
+      if (gen_[j] == generation_ && (gj >= g_[j] || closed_[j] == generation_))
+      {
+        continue;
+      }
+      gen_[j] = generation_;
+      g_[j] = gj;
+      parent_[j] = i;
+      push(gj + weight * heuristic(nx, ny), gj, static_cast<std::uint32_t>(j));
     }
+  }
+  for (std::size_t b = current; b < buckets_.size(); ++b)
+  {
+    buckets_[b].clear();  // what a found goal left behind (capacity kept)
   }
   out.expansions = expansions;
   if (!found)

@@ -90,6 +90,8 @@ public:
   const GridParams& params() const { return params_; }
   /// Number of fuse() calls that changed the map (a version for caches).
   std::uint64_t version() const { return version_; }
+  /// Every cell's state at @p now, row-major from the lower left corner (resized to width()^2).
+  void snapshot(double now, std::vector<Cell>& out) const;
   /// The grid as OccupancyGrid data (-1, 0, 100), row-major from the lower left corner.
   void toOccupancy(double now, std::vector<std::int8_t>& out) const;
 

@@ -112,6 +112,8 @@ private:
   std::vector<std::uint32_t> near_;  // index of that obstacle cell
   std::vector<float> factor_;       // cost factor per cell (<= 0: lethal)
   std::vector<std::uint8_t> unknown_;
+  std::vector<Cell> cells_;   // the grid's states at the last update()
+  std::vector<float> root_;   // resolution * sqrt(k), k = dx^2 + dy^2 in cells
   std::vector<std::uint32_t> queue_;
   // A* state, reused: g cost, parent, and a generation stamp instead of clearing.
   std::vector<float> g_;
@@ -125,6 +127,6 @@ private:
     float g;  // cost to the cell when the entry was made
     std::uint32_t i;
   };
-  std::vector<Open> heap_;
+  std::vector<std::vector<Open>> buckets_;  // the open list, by f
 };
 }  // namespace sl_navigation

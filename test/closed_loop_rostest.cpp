@@ -3,7 +3,8 @@
 // clearance and never touch anything.
 //
 // Ground truth comes from the simulators, not from the system under test: create_sim's true pose
-// (true_pose) and the camera simulator's bumper contact (contact), plus the driver's hazards.
+// (true_pose), the camera simulator's bumper contact (contact) and its collision of the robot's disc
+// with the scene in any direction (collision), plus the driver's hazards.
 //
 // Private parameters of the test node:
 //   ~obstacle_x     world x of the obstacle surface the robot faces (m)
@@ -79,6 +80,7 @@ TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
               status_.reason_code == sl_obstacle::ObstacleStatus::REASON_OBSTACLE &&
               (ros::Time::now() - last_motion_).toSec() > settle;
   }
+  expectNoCollision();
   std::lock_guard<std::mutex> lock(mutex_);
   ASSERT_TRUE(have_pose_) << "no true_pose from create_sim";
   ASSERT_TRUE(have_status_) << "no obstacle_status from the obstacle node";

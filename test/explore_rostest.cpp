@@ -1,7 +1,8 @@
 // Exploration on one scene (explore.test): the whole system runs the simulated Create on its own
 // for ~duration seconds. Ground truth comes from the simulators and the scene file, not from the
 // system under test:
-//   - no contact (camera simulator) and no bumper (Create) in the whole run;
+//   - no contact (camera simulator) and no bumper (Create) in the whole run, and no collision of the
+//     robot's disc with the scene in any direction (the camera simulator's collision signal);
 //   - at least ~min_travel metres of path (where the scene leaves room to move);
 //   - every stop before an obstacle in the middle of the robot's path (within 0.1 m of its centre
 //     line) is at ~clearance +- ~tolerance of travel before the robot's disc would touch it (heights
@@ -200,11 +201,12 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (contact_bits_ != 0 || bumped_)
+      if (contact_bits_ != 0 || bumped_ || colliding_messages_ > 0)
         break;
     }
     ros::WallDuration(0.1).sleep();
   }
+  expectNoCollision();
   std::lock_guard<std::mutex> lock(mutex_);
   ROS_INFO(
       "explore %s: path %.2f m in %.0f s, area covered %.2f m^2, nearest approach %.3f m, %zu + %zu stops "

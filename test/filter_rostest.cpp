@@ -1,7 +1,7 @@
 // The safety filter in the whole simulated system (filter.test, command_mode filter): this node is a
 // scripted user publishing cmd_vel_in at 20 Hz, and the gate between the decoder and the obstacle
 // node (it relays points and ray_ends to points_gated and ray_ends_gated while open). Ground truth
-// comes from the simulators (true_pose, contact) and the scene file.
+// comes from the simulators (true_pose, contact, collision) and the scene file.
 //   ~scenario "wall" (a wall at ~wall_x): turning in place passes; full speed at the wall stops within
 //     ~clearance +- ~tolerance and pushing on does not move it; reverse moves; with the cloud gated
 //     off, forward motion stops within stale_timeout; when the user stops publishing, the robot
@@ -9,7 +9,7 @@
 //   ~scenario "arcs": arcs to both sides past a thin dark leg; the robot moves and never touches.
 //   ~scenario "takeover" (command_mode action): a command on cmd_vel_in takes over from autonomy
 //     while the user publishes and ~teleop_hold seconds after, then autonomy drives again.
-// Every run: no contact, no bumper.
+// Every run: no contact, no bumper, no collision of the robot's disc in any direction.
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -329,6 +329,7 @@ TEST_F(Filter, DrivesWhereTheUserSaysExceptIntoThings)
   else
     runTakeover();
   expectNoContact();
+  expectNoCollision();
 }
 
 }  // namespace

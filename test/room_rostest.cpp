@@ -1,6 +1,6 @@
 // The room scene for a minute (room.test): the whole system runs the simulated Create in
-// sl_sim/scenes/room.yaml. It must never touch anything (camera simulator's contact signal,
-// the Create's bumpers), and it must really do its job meanwhile: drive, stop before an
+// sl_sim/scenes/room.yaml. It must never touch anything (camera simulator's contact and collision
+// signals, the Create's bumpers), and it must really do its job meanwhile: drive, stop before an
 // obstacle (BLOCKED), turn away and drive on (a goal of at least 0.1 m after a turn), or say that
 // no direction is free (NO_FREE_DIRECTION). Meanwhile the pipeline keeps up, counted in messages
 // and checked by their stamps rather than by rates in wall time: the decoder publishes points for
@@ -122,7 +122,7 @@ TEST_F(Room, RunsAMinuteWithoutContact)
   {
     ros::WallDuration(0.2).sleep();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (contact_bits_ != 0 || bumped_)
+    if (contact_bits_ != 0 || bumped_ || colliding_messages_ > 0)
       break;  // failed already
     const double elapsed = (ros::Time::now() - start).toSec();
     if (elapsed >= duration + 40.0 || (elapsed >= duration && (drove_after_turn_ || gave_up_after_turn_)))
@@ -146,6 +146,7 @@ TEST_F(Room, RunsAMinuteWithoutContact)
     still_flowing = cloud_stamps_.size() >= clouds_then + 5 && status_messages_ >= decisions_then + 5;
   }
 
+  expectNoCollision();
   std::lock_guard<std::mutex> lock(mutex_);
   // The camera's frames between the first and the last cloud: which got a cloud (same stamp), and
   // the longest run of frames without one. Which clouds got a decision.

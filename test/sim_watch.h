@@ -1,16 +1,20 @@
-// What the closed-loop system tests (closed_loop_rostest.cpp, room_rostest.cpp) watch while the
-// simulation runs. Ground truth comes from the simulators, not from the system under test:
-// create_sim's true pose (true_pose) and the camera simulator's bumper contact (contact), plus the
-// driver's hazards and the obstacle node's decisions (obstacle_status).
+// What the closed-loop system tests (closed_loop, room, explore, filter) watch while the simulation
+// runs. Ground truth comes from the simulators, not from the system under test: create_sim's true
+// pose (true_pose), the camera simulator's bumper contact (contact) and its ground-truth collision of
+// the robot's disc with the scene in any direction (collision), plus the driver's hazards and the
+// obstacle node's decisions (obstacle_status).
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <mutex>
+#include <set>
 #include <string>
 
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <sl_msgs/Collision.h>
 #include <sl_msgs/Hazards.h>
 #include <sl_obstacle/ObstacleStatus.h>
 #include <std_msgs/UInt8.h>
@@ -53,9 +57,11 @@ inline double stepBetween(const geometry_msgs::Pose& a, const geometry_msgs::Pos
 }
 
 /**
- * Base fixture: subscribes the four topics, keeps the latest true pose, counts contact and hazard
- * messages, ORs the contact bits and latches a bumper. Subclasses see every pose and decision in
- * onPose() and onStatus(), which run with mutex_ held, as must every read of the members.
+ * Base fixture: subscribes the five topics, keeps the latest true pose, counts contact, collision
+ * and hazard messages, ORs the contact bits, latches a bumper, and keeps the objects collided with
+ * and the minimum clearance. Subclasses see every pose and decision in onPose() and onStatus(),
+ * which run with mutex_ held, as must every read of the members. Every test ends with
+ * expectNoCollision() (TearDown() runs it for a test that stopped before).
  */
 class SimWatch : public ::testing::Test
 {
@@ -64,15 +70,19 @@ protected:
   {
     pose_sub_ = nh_.subscribe("true_pose", 100, &SimWatch::poseCallback, this);
     contact_sub_ = nh_.subscribe("contact", 50, &SimWatch::contactCallback, this);
+    collision_sub_ = nh_.subscribe("collision", 100, &SimWatch::collisionCallback, this);
     hazards_sub_ = nh_.subscribe("hazards", 50, &SimWatch::hazardsCallback, this);
     status_sub_ = nh_.subscribe("obstacle_status", 100, &SimWatch::statusCallback, this);
   }
 
   void TearDown() override
   {
+    if (!collision_checked_)
+      expectNoCollision();
     // No callback may run on the fixture once it is being destroyed.
     pose_sub_.shutdown();
     contact_sub_.shutdown();
+    collision_sub_.shutdown();
     hazards_sub_.shutdown();
     status_sub_.shutdown();
   }
@@ -100,6 +110,30 @@ protected:
     return have_pose_ && status_messages_ > 0;
   }
 
+  /**
+   * The end of every closed-loop test (call without mutex_ held): the camera simulator's
+   * ground-truth collision signal came, was still coming at the last true pose, and never found an
+   * object inside the robot's disc. Prints the minimum clearance over the run and its object.
+   */
+  void expectNoCollision()
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    collision_checked_ = true;
+    std::string objects;
+    for (const std::string& name : collided_with_)
+      objects += (objects.empty() ? "" : ", ") + name;
+    ROS_INFO("min clearance %.4f m (%s) at (%.3f, %.3f); %d collision messages, %d colliding%s%s", min_clearance_,
+             nearest_object_.c_str(), min_clearance_pose_.position.x, min_clearance_pose_.position.y,
+             collision_messages_, colliding_messages_, objects.empty() ? "" : ": ", objects.c_str());
+    EXPECT_GT(collision_messages_, 0) << "no collision message from the camera simulator: cannot tell";
+    EXPECT_EQ(colliding_messages_, 0) << "the robot's disc overlapped " << objects;
+    if (collision_messages_ > 0 && have_pose_)
+    {
+      EXPECT_LE((last_pose_time_ - last_collision_time_).toSec(), 5.0)
+          << "the collision signal stopped before the true pose did";
+    }
+  }
+
   std::mutex mutex_;
   int status_messages_ = 0;
   bool have_pose_ = false;
@@ -108,6 +142,12 @@ protected:
   int contact_bits_ = 0;  // OR of every contact message
   int hazard_messages_ = 0;
   bool bumped_ = false;
+  int collision_messages_ = 0;
+  int colliding_messages_ = 0;           // messages with colliding = true
+  std::set<std::string> collided_with_;  // the objects they named
+  double min_clearance_ = std::numeric_limits<double>::infinity();
+  std::string nearest_object_;              // of min_clearance_
+  geometry_msgs::Pose min_clearance_pose_;  // the true pose when it came
 
 private:
   void poseCallback(const geometry_msgs::PoseStamped& msg)
@@ -116,6 +156,7 @@ private:
     onPose(have_pose_ ? &pose_ : nullptr, msg.pose);
     have_pose_ = true;
     pose_ = msg.pose;
+    last_pose_time_ = ros::Time::now();
   }
 
   void contactCallback(const std_msgs::UInt8& msg)
@@ -125,6 +166,28 @@ private:
     if (msg.data != 0 && contact_bits_ == 0)
       ROS_ERROR("contact %d at (%.3f, %.3f)", msg.data, pose_.position.x, pose_.position.y);
     contact_bits_ |= msg.data;
+  }
+
+  void collisionCallback(const sl_msgs::Collision& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++collision_messages_;
+    last_collision_time_ = ros::Time::now();
+    if (msg.colliding)
+    {
+      if (colliding_messages_ == 0)
+        ROS_ERROR("collision with %s (clearance %.4f m) at (%.3f, %.3f)",
+                  msg.objects.empty() ? "?" : msg.objects.front().c_str(), msg.min_clearance, pose_.position.x,
+                  pose_.position.y);
+      ++colliding_messages_;
+      collided_with_.insert(msg.objects.begin(), msg.objects.end());
+    }
+    if (msg.min_clearance < min_clearance_)
+    {
+      min_clearance_ = msg.min_clearance;
+      nearest_object_ = msg.nearest_object;
+      min_clearance_pose_ = pose_;
+    }
   }
 
   void hazardsCallback(const sl_msgs::Hazards& msg)
@@ -142,7 +205,9 @@ private:
   }
 
   ros::NodeHandle nh_;
-  ros::Subscriber pose_sub_, contact_sub_, hazards_sub_, status_sub_;
+  ros::Subscriber pose_sub_, contact_sub_, collision_sub_, hazards_sub_, status_sub_;
+  bool collision_checked_ = false;
+  ros::Time last_pose_time_, last_collision_time_;
 };
 
 }  // namespace sl_bringup_test

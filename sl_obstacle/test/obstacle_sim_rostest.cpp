@@ -262,6 +262,9 @@ TEST(ObstacleSim, E_TurnsInPlaceWhenAllowed)
   std::lock_guard<std::mutex> lock(o.mutex);
   ROS_INFO("E: yaw %.3f (before %.3f), x %.3f, farthest extent %.3f: %s", o.yaw, yaw_before, o.x, o.max_extent_x,
            describe(o.status).c_str());
+  // The wall (x = wall_x, the fake cloud's only obstacle; no scene, no camera simulator) is an
+  // infinite plane: the disc's clearance to it is exactly wall_x - max(x + radius).
+  ROS_INFO("min clearance %.4f m (wall at x = %.3f)", o.wall_x - o.max_extent_x, o.wall_x);
   EXPECT_LT(o.max_extent_x, o.wall_x) << "the robot touched the wall";
 }
 }  // namespace

@@ -1,5 +1,5 @@
 // The sim_camera nodelet in a running system (see sim_camera.test): projector and simulated camera
-// in one manager; images with camera_info from the rig, depth, contact, the pose from tf, and
+// in one manager; images with camera_info from the rig, depth, contact, collision, the pose from tf, and
 // parameters that stop the node with a message naming them. sim_camera_clock.test runs this binary
 // on a simulated clock that the test drives: one image per period of the set rate.
 #include <gtest/gtest.h>
@@ -16,6 +16,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sl_msgs/Collision.h>
 #include <sl_testing/process.h>
 #include <sl_testing/rostest_main.h>
 #include <sl_testing/wait.h>
@@ -227,6 +228,31 @@ TEST(SimCamera, GroundTruthDepthAndContact)
   EXPECT_EQ(contact->data, 0);
 }
 
+TEST(SimCamera, CollisionGroundTruth)
+{
+  // The default pose: the disc's front edge at the world origin, 0.670 m before the plane.
+  const auto collision = waitForMessage<sl_msgs::Collision>("/camera/collision", 30.0);
+  ASSERT_TRUE(collision) << "no collision message";
+  EXPECT_FALSE(collision->colliding);
+  EXPECT_TRUE(collision->objects.empty());
+  EXPECT_NEAR(collision->min_clearance, 0.670, 1e-9);
+  EXPECT_EQ(collision->nearest_object, "plane");
+  EXPECT_EQ(collision->header.frame_id, "world");
+  EXPECT_FALSE(collision->header.stamp.isZero());
+  // camera_tf: from tf, 100 mm nearer (the default pose until the static transforms arrive).
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(30.0);
+  double clearance = 0.0;
+  while (ros::WallTime::now() < give_up)
+  {
+    const auto msg = waitForMessage<sl_msgs::Collision>("/camera_tf/collision", 30.0);
+    ASSERT_TRUE(msg) << "no collision message from camera_tf";
+    clearance = msg->min_clearance;
+    if (std::abs(clearance - 0.570) < 1e-6)
+      break;
+  }
+  EXPECT_NEAR(clearance, 0.570, 1e-6);
+}
+
 TEST(SimCamera, PoseComesFromTf)
 {
   // camera_tf: tf puts the robot 100 mm further forward, so the plane is 600 mm from the camera.
@@ -264,15 +290,17 @@ TEST(SimCameraNode, InvalidParametersFailNamingThem)
     { "_rig_file:=" + rig + " _scene_file:=/no/such/scene.yaml", "~rig_file is deprecated: use ~calibration_file" },
     { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _antialias:=3", "~antialias: must be 1, 4 or 16" },
     { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _rate:=0.0", "~rate" },
+    { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _collision_rate:=-1.0", "~collision_rate" },
     { "_calibration_file:=" + rig + " _scene_file:=" + scene + " _robot_radius:=-1.0", "~robot_radius" },
   };
   int k = 0;
   for (const Case& c : cases)
   {
     std::string out;
-    const int status = run("rosrun sl_sim sim_camera_node __name:=bad_sim_camera_" + std::to_string(k++) + " " +
-                               c.args + " image_raw:=bad_image pattern:=bad_pattern contact:=bad_contact",
-                           out);
+    const int status =
+        run("rosrun sl_sim sim_camera_node __name:=bad_sim_camera_" + std::to_string(k++) + " " + c.args +
+                " image_raw:=bad_image pattern:=bad_pattern contact:=bad_contact collision:=bad_collision",
+            out);
     EXPECT_NE(status, 0) << c.args << "\n" << out;
     EXPECT_NE(out.find(c.expected), std::string::npos) << c.args << "\n" << out;
   }

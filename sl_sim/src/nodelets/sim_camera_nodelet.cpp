@@ -1,6 +1,8 @@
 // The simulated camera: renders what the rig's camera sees of a scene lit by the projector's pattern,
-// from the simulated robot's pose (tf), and tells the simulated robot when its bumpers touch an
-// obstacle. All image formation lives in the ROS-free core (sl_sim/renderer.h).
+// from the simulated robot's pose (tf), tells the simulated robot when its bumpers touch an
+// obstacle, and publishes the ground-truth collision of the robot's disc with the scene for tests.
+// All image formation and geometry live in the ROS-free core (sl_sim/renderer.h, contact.h,
+// collision.h).
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -16,11 +18,13 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sl_msgs/Collision.h>
 #include <std_msgs/UInt8.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "sl_sim/collision.h"
 #include "sl_sim/contact.h"
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
@@ -39,6 +43,7 @@ struct SimParams
   std::string rig_file;
   std::string scene_file;
   double rate = 10.0;
+  double collision_rate = 20.0;
   int seed = 0;
   bool publish_depth = true;
   bool use_tf = true;
@@ -116,6 +121,9 @@ SimParams readParams(const ros::NodeHandle& pnh)
   p.rate = sl_params::read(pnh, "rate", p.rate);
   if (!std::isfinite(p.rate) || p.rate <= 0.0 || p.rate > 1000.0)
     throw std::invalid_argument("~rate: must be in (0, 1000] Hz, got " + std::to_string(p.rate));
+  p.collision_rate = sl_params::read(pnh, "collision_rate", p.collision_rate);
+  if (!std::isfinite(p.collision_rate) || p.collision_rate <= 0.0 || p.collision_rate > 1000.0)
+    throw std::invalid_argument("~collision_rate: must be in (0, 1000] Hz, got " + std::to_string(p.collision_rate));
   p.seed = sl_params::read(pnh, "seed", p.seed);
   if (p.seed < 0)
     throw std::invalid_argument("~seed: must be >= 0, got " + std::to_string(p.seed));
@@ -162,7 +170,8 @@ Eigen::Isometry3d translationX(double x)
 /**
  * Simulated structured-light camera: subscribes `pattern` (the projector's frame), renders the scene
  * from the robot's pose in tf at `rate` while anyone listens, publishes `image_raw` + `camera_info`,
- * `depth/image_raw` + `depth/camera_info` (REP 118 ground truth) and, always, `contact` (bump bits).
+ * `depth/image_raw` + `depth/camera_info` (REP 118 ground truth) and, always, `contact` (bump bits)
+ * and `collision` (sl_msgs/Collision, at every frame tick and at `collision_rate`).
  */
 class SimCameraNodelet : public nodelet::Nodelet
 {
@@ -190,8 +199,12 @@ private:
     if (p_.publish_depth)
       depth_pub_ = it_->advertiseCamera("depth/image_raw", 1);
     contact_pub_ = nh.advertise<std_msgs::UInt8>("contact", 10);
+    collision_pub_ = nh.advertise<sl_msgs::Collision>("collision", 20);
     pattern_sub_ = nh.subscribe("pattern", 1, &SimCameraNodelet::onPattern, this);
     timer_ = nh.createTimer(ros::Duration(1.0 / p_.rate), &SimCameraNodelet::onTimer, this);
+    // The collision check costs microseconds: at its own rate, so that it does not depend on the frames'.
+    collision_timer_ =
+        nh.createTimer(ros::Duration(1.0 / p_.collision_rate), &SimCameraNodelet::onCollisionTimer, this);
     NODELET_INFO("simulating a %d x %d camera at %.1f Hz: rig %s, scene %s (%zu objects), pattern from %s",
                  p_.rig.camera.width, p_.rig.camera.height, p_.rate, p_.rig_file.c_str(), p_.scene_file.c_str(),
                  p_.scene.objects.size(), pattern_sub_.getTopic().c_str());
@@ -240,29 +253,38 @@ private:
     pattern_ = frame;
   }
 
-  /// Robot (base footprint) and camera optical frame in the world, from tf or the static default;
-  /// @p pose_stamp is the time of the robot's pose (zero for the default).
-  void poses(Eigen::Isometry3d& robot_in_world, Eigen::Isometry3d& camera_in_world, ros::Time& pose_stamp)
+  /// The robot (base footprint) in the world, from tf or the static default; @p pose_stamp is the
+  /// time of the pose (zero for the default). @return what tf lacks (empty when nothing).
+  std::string robotPose(Eigen::Isometry3d& robot_in_world, ros::Time& pose_stamp)
   {
     pose_stamp = ros::Time();
     // Default: platform_edge at the world origin, so the robot's centre is robot_radius behind it.
     robot_in_world = translationX(-p_.contact.robot_radius);
+    if (!p_.use_tf)
+      return std::string();
+    try
+    {
+      const geometry_msgs::TransformStamped robot =
+          tf_buffer_->lookupTransform(p_.world_frame, p_.robot_frame, ros::Time(0));
+      robot_in_world = tf2::transformToEigen(robot);
+      pose_stamp = robot.header.stamp;
+    }
+    catch (const tf2::TransformException& e)
+    {
+      return std::string(" ") + e.what();
+    }
+    return std::string();
+  }
+
+  /// Robot (base footprint) and camera optical frame in the world, from tf or the static default;
+  /// @p pose_stamp is the time of the robot's pose (zero for the default).
+  void poses(Eigen::Isometry3d& robot_in_world, Eigen::Isometry3d& camera_in_world, ros::Time& pose_stamp)
+  {
+    std::string missing = robotPose(robot_in_world, pose_stamp);
     Eigen::Isometry3d camera_in_base =
         translationX(p_.contact.robot_radius) * toIsometry(p_.rig.mount.cameraOpticalInParent());
     if (p_.use_tf)
     {
-      std::string missing;
-      try
-      {
-        const geometry_msgs::TransformStamped robot =
-            tf_buffer_->lookupTransform(p_.world_frame, p_.robot_frame, ros::Time(0));
-        robot_in_world = tf2::transformToEigen(robot);
-        pose_stamp = robot.header.stamp;
-      }
-      catch (const tf2::TransformException& e)
-      {
-        missing += std::string(" ") + e.what();
-      }
       try
       {
         camera_in_base =
@@ -300,9 +322,11 @@ private:
     ros::Time pose_stamp;
     poses(robot_in_world, camera_in_world, pose_stamp);
 
+    // Contact and collision from the same pose.
     std_msgs::UInt8 contact;
     contact.data = computeContact(p_.scene, robot_in_world, p_.contact);
     contact_pub_.publish(contact);
+    publishCollision(robot_in_world, pose_stamp);
 
     const bool want_image = image_pub_.getNumSubscribers() > 0;
     const bool want_depth = p_.publish_depth && depth_pub_.getNumSubscribers() > 0;
@@ -335,7 +359,35 @@ private:
                          sensor_msgs::CameraInfoPtr(new sensor_msgs::CameraInfo(info)));
   }
 
+  void onCollisionTimer(const ros::TimerEvent&)
+  {
+    Eigen::Isometry3d robot_in_world;
+    ros::Time pose_stamp;
+    robotPose(robot_in_world, pose_stamp);  // onTimer() warns about what tf lacks
+    publishCollision(robot_in_world, pose_stamp);
+  }
+
+  /// The ground-truth collision of the robot at @p robot_in_world, stamped with its pose's time.
+  void publishCollision(const Eigen::Isometry3d& robot_in_world, const ros::Time& pose_stamp)
+  {
+    computeCollision(p_.scene, robot_in_world, p_.contact, collision_);
+    sl_msgs::CollisionPtr msg(new sl_msgs::Collision);
+    msg->header.stamp = pose_stamp.isZero() ? ros::Time::now() : pose_stamp;
+    msg->header.frame_id = p_.world_frame;
+    msg->colliding = collision_.colliding;
+    msg->objects = collision_.names;
+    msg->min_clearance = collision_.min_clearance;
+    msg->nearest_object = collision_.nearest_name;
+    collision_pub_.publish(msg);
+    if (collision_.colliding)
+      NODELET_WARN_THROTTLE(1.0,
+                            "collision: the robot's disc at (%.3f, %.3f) overlaps %zu object(s), deepest %s (%.4f m)",
+                            robot_in_world.translation().x(), robot_in_world.translation().y(),
+                            collision_.objects.size(), collision_.nearest_name.c_str(), collision_.min_clearance);
+  }
+
   SimParams p_;
+  CollisionReport collision_;
   std::unique_ptr<Renderer> renderer_;
   RenderOutput out_;
   sensor_msgs::CameraInfo info_;
@@ -348,8 +400,10 @@ private:
   image_transport::CameraPublisher image_pub_;
   image_transport::CameraPublisher depth_pub_;
   ros::Publisher contact_pub_;
+  ros::Publisher collision_pub_;
   ros::Subscriber pattern_sub_;
   ros::Timer timer_;
+  ros::Timer collision_timer_;
 };
 
 }  // namespace sl_sim

@@ -21,6 +21,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "conversions.h"
 #include "params.h"
 #include "sl_navigation/navigator.h"
 
@@ -41,8 +42,6 @@ private:
   void onTimer(const ros::TimerEvent& e);
   bool lookupPose(Pose& pose, std::string& why) const;
   void publishCommand(double linear, double angular, const ros::Time& now);
-  void publishPlan(const ros::Time& now);
-  void publishStatus(const NavOutput& out, const ros::Time& now);
   void publishMap(const ros::Time& now);
   void finishAction(const NavOutput& out);
 
@@ -102,13 +101,7 @@ void NavigationNodelet::onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg)
     return;
   }
   OccupancyView v;
-  v.data = msg->data.data();
-  v.width = static_cast<int>(msg->info.width);
-  v.height = static_cast<int>(msg->info.height);
-  v.resolution = msg->info.resolution;
-  v.origin_x = msg->info.origin.position.x;
-  v.origin_y = msg->info.origin.position.y;
-  const bool sized = msg->data.size() == static_cast<std::size_t>(msg->info.width) * msg->info.height;
+  const bool sized = toView(*msg, v);
   std::lock_guard<std::mutex> lock(mutex_);
   if (!sized || !nav_->onMap(v, msg->header.stamp.toSec()))
   {
@@ -237,7 +230,7 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
   }
   if (out.plan_changed)
   {
-    publishPlan(now);
+    plan_pub_.publish(toPath(nav_->plan().points, params_.odom_frame, now));
   }
   if (action_goal_ && out.state != NavState::ACTIVE)
   {
@@ -246,16 +239,10 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
   else if (action_goal_ && action_->isActive())
   {
     move_base_msgs::MoveBaseFeedback feedback;
-    feedback.base_position.header.stamp = now;
-    feedback.base_position.header.frame_id = params_.odom_frame;
-    feedback.base_position.pose.position.x = pose.x;
-    feedback.base_position.pose.position.y = pose.y;
-    tf2::Quaternion q;
-    q.setRPY(0.0, 0.0, pose.yaw);
-    feedback.base_position.pose.orientation = tf2::toMsg(q);
+    feedback.base_position = toPoseStamped(pose, params_.odom_frame, now);
     action_->publishFeedback(feedback);
   }
-  publishStatus(out, now);
+  status_pub_.publish(toStatus(out, goal_msg_, params_.odom_frame, now));
   publishMap(now);
 }
 
@@ -290,41 +277,6 @@ void NavigationNodelet::publishCommand(double linear, double angular, const ros:
   cmd_pub_.publish(cmd);
 }
 
-void NavigationNodelet::publishPlan(const ros::Time& now)
-{
-  nav_msgs::Path path;
-  path.header.stamp = now;
-  path.header.frame_id = params_.odom_frame;
-  for (const Point& p : nav_->plan().points)
-  {
-    geometry_msgs::PoseStamped s;
-    s.header = path.header;
-    s.pose.position.x = p.x;
-    s.pose.position.y = p.y;
-    s.pose.orientation.w = 1.0;
-    path.poses.push_back(s);
-  }
-  plan_pub_.publish(path);
-}
-
-void NavigationNodelet::publishStatus(const NavOutput& out, const ros::Time& now)
-{
-  sl_msgs::NavigationStatus s;
-  s.header.stamp = now;
-  s.header.frame_id = params_.odom_frame;
-  s.state = static_cast<std::uint8_t>(out.state);
-  s.mode = out.state == NavState::ACTIVE ? toString(out.mode) : "";
-  s.reason = out.reason;
-  s.goal = goal_msg_;
-  s.goal_distance = out.goal_distance;
-  s.remaining = out.remaining;
-  s.elapsed = out.elapsed;
-  s.travelled = out.travelled;
-  s.linear = out.linear;
-  s.angular = out.angular;
-  status_pub_.publish(s);
-}
-
 void NavigationNodelet::publishMap(const ros::Time& now)
 {
   if (map_pub_.getNumSubscribers() == 0 || (now - map_published_).toSec() < params_.map_publish_period)
@@ -332,17 +284,8 @@ void NavigationNodelet::publishMap(const ros::Time& now)
     return;
   }
   map_published_ = now;
-  const NavGrid& g = nav_->grid();
   nav_msgs::OccupancyGrid m;
-  m.header.stamp = now;
-  m.header.frame_id = params_.odom_frame;
-  m.info.resolution = static_cast<float>(g.params().resolution);
-  m.info.width = static_cast<unsigned>(g.width());
-  m.info.height = static_cast<unsigned>(g.width());
-  m.info.origin.position.x = g.originX();
-  m.info.origin.position.y = g.originY();
-  m.info.origin.orientation.w = 1.0;
-  g.toOccupancy(now.toSec(), m.data);
+  toGrid(nav_->grid(), now.toSec(), params_.odom_frame, now, m);
   map_pub_.publish(m);
 }
 }  // namespace sl_navigation

@@ -1,5 +1,6 @@
 #include "sl_navigation/navigator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -17,6 +18,8 @@ void NavigatorParams::validate() const
   detail::requireRange("progress_distance", progress_distance, 0.01, 10.0);
   detail::requireRange("refuse_time", refuse_time, 0.0, 60.0);
   detail::requireRange("switch_gain", switch_gain, 0.0, 10.0);
+  detail::requireRange("stuck_time", stuck_time, 0.5, 60.0);
+  detail::requireRange("look_around", look_around, 0.0, M_PI);
 }
 
 const char* toString(NavState state)
@@ -105,6 +108,8 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   best_distance_ = std::numeric_limits<double>::infinity();
   progress_time_ = now;
   has_last_pose_ = false;
+  told_to_drive_ = false;
+  look_step_ = -1;
   return std::string();
 }
 
@@ -124,7 +129,7 @@ void Navigator::end(NavState state, const std::string& reason)
   follower_.reset();
 }
 
-bool Navigator::replan(const Pose& pose, double now)
+bool Navigator::replan(const Pose& pose, double now, bool force)
 {
   planner_.update(grid_, now);
   Plan p = planner_.plan(grid_, pose.x, pose.y, goal_.x, goal_.y);
@@ -132,7 +137,7 @@ bool Navigator::replan(const Pose& pose, double now)
   plan_version_ = grid_.version();
   if (p.status == PlanStatus::OK)
   {
-    if (!plan_.points.empty() && plan_.status == PlanStatus::OK)
+    if (!force && !plan_.points.empty() && plan_.status == PlanStatus::OK)
     {
       const double kept = planner_.pathCost(grid_, plan_.points, follower_.index());
       if (std::isfinite(kept) && p.cost * (1.0 + params_.switch_gain) > kept)
@@ -172,7 +177,7 @@ void Navigator::track(const Pose& pose, double now)
   out_.elapsed = now - goal_time_;
 }
 
-const NavOutput& Navigator::step(const Pose& pose, double now)
+const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
 {
   out_.plan_changed = false;
   if (has_map_)
@@ -208,12 +213,22 @@ const NavOutput& Navigator::step(const Pose& pose, double now)
     out_.command = true;
     return out_;
   }
-  FollowCommand c = follower_.step(pose, window_, now);
+  checkStuck(pose, now);
+  if (look_step_ >= 0 && lookAround(pose, now))
+  {
+    return out_;
+  }
+  if (out_.state != NavState::ACTIVE)
+  {
+    out_.command = true;
+    return out_;
+  }
+  FollowCommand c = follower_.step(pose, window_, now, speed_cap);
   if (c.mode == FollowMode::BLOCKED && now - plan_time_ >= 0.5)
   {
-    if (replan(pose, now))
+    if (replan(pose, now, true))
     {
-      c = follower_.step(pose, window_, now);
+      c = follower_.step(pose, window_, now, speed_cap);
     }
     else if (out_.state != NavState::ACTIVE)
     {
@@ -254,6 +269,54 @@ const NavOutput& Navigator::step(const Pose& pose, double now)
   out_.linear = c.linear;
   out_.angular = c.angular;
   out_.reason = c.text;
+  told_to_drive_ = c.linear > 0.0;
   return out_;
+}
+
+void Navigator::checkStuck(const Pose& pose, double now)
+{
+  const bool moved = std::hypot(pose.x - still_pose_.x, pose.y - still_pose_.y) > 0.02 ||
+                     std::abs(wrapAngle(pose.yaw - still_pose_.yaw)) > 0.05;
+  if (moved || !told_to_drive_)
+  {
+    still_pose_ = pose;
+    still_since_ = now;
+    return;
+  }
+  if (now - still_since_ >= params_.stuck_time && look_step_ < 0)
+  {
+    look_step_ = 0;
+    look_base_yaw_ = pose.yaw;
+    look_started_ = now;
+    told_to_drive_ = false;
+  }
+}
+
+bool Navigator::lookAround(const Pose& pose, double now)
+{
+  const double targets[3] = { look_base_yaw_ + params_.look_around, look_base_yaw_ - params_.look_around,
+                              look_base_yaw_ };
+  while (look_step_ >= 0 && look_step_ < 3)
+  {
+    const double error = wrapAngle(targets[look_step_] - pose.yaw);
+    if (std::abs(error) > 0.05 && now - look_started_ < 10.0 * (look_step_ + 1))
+    {
+      const double w = std::clamp(2.0 * error, -params_.follower.turn_speed, params_.follower.turn_speed);
+      out_.linear = 0.0;
+      out_.angular = std::abs(w) < 0.2 ? std::copysign(0.2, error) : w;
+      out_.mode = FollowMode::LOOK;
+      char text[160];
+      std::snprintf(text, sizeof(text), "stuck for %.1f s: looking around (%d of 3, %.2f rad to go)",
+                    params_.stuck_time, look_step_ + 1, error);
+      out_.reason = text;
+      return true;
+    }
+    ++look_step_;
+  }
+  look_step_ = -1;
+  still_pose_ = pose;
+  still_since_ = now;
+  replan(pose, now, true);
+  return false;
 }
 }  // namespace sl_navigation

@@ -273,7 +273,7 @@ void PathFollower::rotateTo(double error, FollowMode mode)
   out_.angular = std::abs(w) < 0.2 ? std::copysign(0.2, error) : w;
 }
 
-void PathFollower::drive(const Pose& pose, const Sweep& s, double dt)
+void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double speed_cap)
 {
   const Point target = pointAhead(params_.lookahead);
   const double dist = std::max(1e-3, std::hypot(target.x - pose.x, target.y - pose.y));
@@ -286,12 +286,10 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt)
   const double curvature = 2.0 * std::sin(alpha) / dist;
   const double a = params_.deceleration;
   double v = params_.max_speed;
-  const double margin = s.free - params_.clearance;
+  const double margin = std::min(s.obstacle, 10.0) - kSweepStep - params_.clearance;
   v = std::min(v, margin > 0.0 ? std::sqrt(2.0 * a * margin) : 0.0);
-  if (v < params_.min_speed && s.obstacle > s.free + params_.clearance)
-  {
-    v = params_.min_speed;  // only unknown space (the blind ring) limits: creep, the filter decides
-  }
+  v = std::min(v, speed_cap + params_.acceleration * dt);
+  v = std::max(v, params_.min_speed);  // not blocked (step() checked): the filter decides
   v = std::min(v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * params_.goal_tolerance)) +
                       params_.min_speed);
   if (std::abs(curvature) > 1e-6)
@@ -305,7 +303,7 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt)
   out_.angular = v * curvature;
 }
 
-const FollowCommand& PathFollower::step(const Pose& pose, const ExecWindow& window, double now)
+const FollowCommand& PathFollower::step(const Pose& pose, const ExecWindow& window, double now, double speed_cap)
 {
   const double dt = std::isnan(last_time_) ? 0.1 : std::clamp(now - last_time_, 0.0, 0.5);
   last_time_ = now;
@@ -357,7 +355,7 @@ const FollowCommand& PathFollower::step(const Pose& pose, const ExecWindow& wind
     out_.text = text;
     return out_;
   }
-  drive(pose, s, dt);
+  drive(pose, s, dt, speed_cap);
   std::snprintf(text, sizeof(text), "%s: %.2f m/s, %.2f rad/s; %.2f m known free, %.2f m of path left",
                 toString(out_.mode), out_.linear, out_.angular, s.free, out_.remaining);
   out_.text = text;

@@ -113,7 +113,7 @@ TEST(Navigator, ReachesAGoalThroughADoorWithoutTouchingAnything)
     EXPECT_EQ(r.state, NavState::SUCCEEDED) << r.reason;
     EXPECT_LE(std::hypot(r.pose.x - goal.x, r.pose.y - goal.y), nav.params().follower.goal_tolerance + 0.02);
     EXPECT_GT(r.min_clearance, 0.0);
-    EXPECT_GT(r.travelled / r.moving_time, 0.08);  // measured 0.10..0.15 (creeping through the blind ring)
+    EXPECT_GT(r.travelled / r.moving_time, 0.16);  // measured 0.25..0.27 (no safety filter in this loop)
   }
 }
 

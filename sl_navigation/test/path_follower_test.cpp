@@ -82,7 +82,7 @@ TEST(PathFollower, DrivesAKnownFreeStraightPathAtMaxSpeedAfterTheRamp)
 TEST(PathFollower, SpeedObeysTheStoppingDistanceRule)
 {
   // v <= sqrt(2 a (d - clearance)), d the known-free travel to a wall across the path.
-  for (double wall : { 0.45, 0.55, 0.7, 0.9 })
+  for (double wall : { 0.5, 0.6, 0.75, 0.95 })
   {
     Window w;
     w.box(wall + 0.1875, -1.0, wall + 0.3, 1.0, 100);  // the disc reaches it after `wall` m

@@ -24,6 +24,8 @@ struct NavigatorParams
   double progress_distance = 0.1;  ///< m of remaining path that count as progress
   double refuse_time = 2.0;        ///< s a blocked or enclosed goal must stay so before it is aborted (refuse_time)
   double switch_gain = 0.15;       ///< a new plan replaces a still passable one only when this much cheaper (share)
+  double stuck_time = 3.0;         ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
+  double look_around = 0.6;        ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -76,7 +78,11 @@ struct NavOutput
  * goal_tolerance, ABORTED when the goal is inside an obstacle or enclosed for refuse_time, or after
  * progress_timeout without progress: neither the straight-line distance to the goal nor the path
  * left shrank by progress_distance. A periodic replan replaces a plan that is still passable only
- * when it is switch_gain cheaper, so the robot does not swing between two routes of similar cost. setGoal() refuses at once
+ * when it is switch_gain cheaper, so the robot does not swing between two routes of similar cost.
+ * When the robot does not move while it is told to go forward for stuck_time (the safety filter
+ * refuses: the sides of the path just ahead are unseen, or something the local map shows), it looks
+ * around: turns look_around to the left, to the right, and back (turning in place always passes the
+ * filter), so that the camera sees the sides of the way ahead, then replans and drives on. setGoal() refuses at once
  * a non-finite goal or one outside the map. A new goal replaces the old one (which ends CANCELLED).
  */
 class Navigator
@@ -91,8 +97,8 @@ public:
   std::string setGoal(const NavGoal& goal, double now);
   /// Cancels the running goal (the state becomes CANCELLED; the next step sends a stop).
   void cancel(double now, const std::string& why);
-  /// One control step from @p pose (base_link in odom) at @p now.
-  const NavOutput& step(const Pose& pose, double now);
+  /// One control step from @p pose (base_link in odom) at @p now; @p speed_cap: see PathFollower::step().
+  const NavOutput& step(const Pose& pose, double now, double speed_cap = std::numeric_limits<double>::infinity());
 
   /// The state.
   NavState state() const { return out_.state; }
@@ -109,7 +115,8 @@ public:
 
 private:
   void end(NavState state, const std::string& reason);
-  bool replan(const Pose& pose, double now);
+  /// Plans anew; with @p force a new plan replaces the current one even when that is still passable.
+  bool replan(const Pose& pose, double now, bool force = false);
   void track(const Pose& pose, double now);
 
   NavigatorParams params_;
@@ -131,5 +138,15 @@ private:
   double progress_time_ = 0.0;
   bool has_last_pose_ = false;
   Pose last_pose_;
+  Pose still_pose_;            // where the robot stood when it was last seen to move
+  double still_since_ = 0.0;   // since when it stands there while told to drive
+  bool told_to_drive_ = false;
+  /// Starts a look-around when the robot does not follow its commands.
+  void checkStuck(const Pose& pose, double now);
+  /// One step of the look-around; false once it is done.
+  bool lookAround(const Pose& pose, double now);
+  int look_step_ = -1;        // -1: not looking around; else the index of the heading turned to
+  double look_base_yaw_ = 0.0;  // the heading the look-around started from
+  double look_started_ = 0.0;
 };
 }  // namespace sl_navigation

@@ -30,7 +30,7 @@ struct FollowerParams
   double turn_speed = 0.9;          ///< rad/s, the fastest turn in place (turn_speed)
   double acceleration = 0.4;        ///< m/s^2, how fast the command's speed rises (acceleration)
   double deceleration = 0.25;       ///< m/s^2, the a of v <= sqrt(2 a d) (the safety filter's)
-  double clearance = 0.2;           ///< m kept to obstacles and unknown space along the path (the safety filter's)
+  double clearance = 0.4;           ///< m kept to obstacles and unknown space along the path (the safety filter's)
   double swept_radius = 0.1875;     ///< m, robot radius + lateral margin (the safety filter's)
   double lookahead = 0.35;          ///< m, pure-pursuit look-ahead along the path
   double rotate_threshold = 0.8;    ///< rad: heading errors above this are turned in place first
@@ -101,9 +101,12 @@ struct FollowCommand
  * now excepted). Where an unknown cell of the path lies between look_min_distance and look_distance
  * from the robot, it first turns to face it and waits look_time for the map (a cell is looked at
  * once). Otherwise it drives toward the look-ahead point on an arc of curvature 2 sin(alpha) / L,
- * with v <= max_speed, v <= sqrt(2 a (d - clearance)) (min_speed where only unknown space limits
- * it: the filter decides), v <= max_angular / |curvature|, the rise limited by acceleration, and
- * slowing toward the goal as v <= sqrt(2 a (goal distance)).
+ * with v <= max_speed, v <= sqrt(2 a (d_obstacle - clearance)) (d_obstacle: travel to the first
+ * occupied cell of the window on the path), v <= max_angular / |curvature|, v <= the filter's last
+ * limit plus the rise the acceleration allows, the rise limited by acceleration, and slowing toward
+ * the goal as v <= sqrt(2 a (goal distance)). Unknown space is left to the safety filter, which
+ * knows it at the moment of the command (the window is up to 0.5 s old); at least min_speed is
+ * asked for while the path is not blocked.
  */
 class PathFollower
 {
@@ -116,8 +119,12 @@ public:
   void setPath(const std::vector<Point>& path, double goal_yaw, bool use_yaw);
   /// Forgets the path and the looked-at cells; the next command starts from standstill.
   void reset();
-  /// One control step at @p now (s) from @p pose on @p window.
-  const FollowCommand& step(const Pose& pose, const ExecWindow& window, double now);
+  /// One control step at @p now (s) from @p pose on @p window. @p speed_cap (m/s) is what the safety
+  /// filter let through of the last command when it limited it (+inf when it did not): the speed
+  /// rises from there by the acceleration, so that the command and the filter's output stay close and
+  /// the arc driven is the arc commanded.
+  const FollowCommand& step(const Pose& pose, const ExecWindow& window, double now,
+                            double speed_cap = std::numeric_limits<double>::infinity());
   /// The parameters.
   const FollowerParams& params() const { return params_; }
   /// Index of the path point the robot last passed (the start of its current segment).
@@ -139,7 +146,7 @@ private:
   double remaining() const;
   bool lookAt(const Pose& pose, const Sweep& s, double now);
   void rotateTo(double error, FollowMode mode);
-  void drive(const Pose& pose, const Sweep& s, double dt);
+  void drive(const Pose& pose, const Sweep& s, double dt, double speed_cap);
   bool looked(const Point& p) const;
 
   FollowerParams params_;

@@ -23,7 +23,8 @@ struct Point
 struct PlannerParams
 {
   double robot_radius = 0.1675;   ///< m, the robot's disc (robot_radius)
-  double lethal_margin = 0.03;    ///< m: a centre nearer than robot_radius + this to an obstacle is lethal
+  double lethal_margin = 0.06;    ///< m: a centre nearer than robot_radius + this to an obstacle is lethal
+                                  ///< (the follower's lateral margin plus half a cell's diagonal)
   double inflation_radius = 0.6;  ///< m from an obstacle where the clearance cost ends
   double obstacle_cost = 3.0;     ///< extra cost factor at the lethal edge, falling linearly to 0 at inflation_radius
   double unknown_cost = 1.0;      ///< extra cost factor of an unknown cell (0: unknown planned as free)

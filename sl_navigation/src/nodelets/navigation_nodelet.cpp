@@ -1,7 +1,9 @@
 // The navigation nodelet: goals from move_base_simple/goal and the move_base action, the local map
 // (local_map) fused into a persistent map, velocity commands on cmd_vel_in_stamped (through the
-// obstacle node's safety filter), the plan, the map and the status. The logic is the ROS-free
+// obstacle node's safety filter, whose obstacle_status says how much of each command it let through),
+// the plan, the map and the status. The logic is the ROS-free
 // sl_navigation::Navigator; this file only converts and times.
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -16,6 +18,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sl_msgs/NavigationStatus.h>
+#include <sl_obstacle/ObstacleStatus.h>
 #include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
@@ -34,6 +37,7 @@ class NavigationNodelet : public nodelet::Nodelet
 private:
   void onInit() override;
   void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg);
+  void onFilter(const sl_obstacle::ObstacleStatus::ConstPtr& msg);
   void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& msg);
   void onActionGoal();
   void onActionPreempt();
@@ -53,7 +57,9 @@ private:
   std::unique_ptr<ActionServer> action_;
   bool action_goal_ = false;  // the running goal came from the action server
   geometry_msgs::PoseStamped goal_msg_;
-  ros::Subscriber map_sub_, goal_sub_;
+  ros::Subscriber map_sub_, goal_sub_, filter_sub_;
+  double speed_cap_ = std::numeric_limits<double>::infinity();  // the filter's limit of our last command
+  ros::Time speed_cap_time_;
   ros::Publisher cmd_pub_, plan_pub_, status_pub_, map_pub_;
   ros::Timer timer_;
   ros::Time map_published_;
@@ -81,6 +87,7 @@ void NavigationNodelet::onInit()
   map_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("nav_map", 1);
   map_sub_ = nh.subscribe("local_map", 2, &NavigationNodelet::onMap, this);
   goal_sub_ = nh.subscribe("move_base_simple/goal", 1, &NavigationNodelet::onSimpleGoal, this);
+  filter_sub_ = nh.subscribe("obstacle_status", 5, &NavigationNodelet::onFilter, this);
   action_ = std::make_unique<ActionServer>(nh, "move_base", false);
   action_->registerGoalCallback([this] { onActionGoal(); });
   action_->registerPreemptCallback([this] { onActionPreempt(); });
@@ -109,6 +116,16 @@ void NavigationNodelet::onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg)
                            msg->info.width, msg->info.height, msg->data.size(), msg->info.resolution,
                            v.origin_x, v.origin_y);
   }
+}
+
+void NavigationNodelet::onFilter(const sl_obstacle::ObstacleStatus::ConstPtr& msg)
+{
+  // Only the filter's answers to commands on cmd_vel_in (teleop) that it scaled down count.
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool limited = msg->teleop && msg->input_linear > 0.0 && msg->command_scale < 0.999;
+  speed_cap_ = limited ? std::max(0.0, msg->command_scale * msg->input_linear)
+                       : std::numeric_limits<double>::infinity();
+  speed_cap_time_ = ros::Time::now();
 }
 
 bool NavigationNodelet::startGoal(const geometry_msgs::PoseStamped& goal, std::string& why)
@@ -223,7 +240,8 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
     }
     return;
   }
-  const NavOutput& out = nav_->step(pose, now.toSec());
+  const bool cap_fresh = (now - speed_cap_time_).toSec() < 0.5;
+  const NavOutput& out = nav_->step(pose, now.toSec(), cap_fresh ? speed_cap_ : std::numeric_limits<double>::infinity());
   if (out.command)
   {
     publishCommand(out.linear, out.angular, now);

@@ -3,7 +3,8 @@
 // system under test:
 //   - no contact (camera simulator) and no bumper (Create) in the whole run, and no collision of the
 //     robot's disc with the scene in any direction (the camera simulator's collision signal);
-//   - at least ~min_travel metres of path (where the scene leaves room to move);
+//   - at least ~min_travel metres of path (where the scene leaves room to move), and at least
+//     ~min_progress metres along the start heading (down a corridor);
 //   - every stop before an obstacle in the middle of the robot's path (within 0.1 m of its centre
 //     line) is at ~clearance +- ~tolerance of travel before the robot's disc would touch it (heights
 //     up to H), measured by casting rays through the scene from the true pose; a stop for an
@@ -11,7 +12,7 @@
 //     and +100 mm of it (the map's 2 cm cells, and the odometry since the obstacle was seen).
 // It prints the path length, the floor area the robot's disc covered, the nearest approach to any
 // object and the number of stops checked (also the 10-minute soak: `make soak`).
-// Private parameters: ~scene (file), ~duration (s), ~min_travel (m), ~clearance (m), ~tolerance (m),
+// Private parameters: ~scene (file), ~duration (s), ~min_travel (m), ~min_progress (m), ~clearance (m), ~tolerance (m),
 // ~robot_radius (m, the disc; base_link to the front edge), ~height (m, top of the working window).
 #include <algorithm>
 #include <cmath>
@@ -35,6 +36,11 @@ class Explore : public SimWatch
 protected:
   void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
   {
+    if (!previous)
+      start_ = now;
+    const double yaw0 = yawOf(start_);
+    progress_ = std::max(progress_, (now.position.x - start_.position.x) * std::cos(yaw0) +
+                                        (now.position.y - start_.position.y) * std::sin(yaw0));
     if (previous)
     {
       const double step = stepBetween(now, *previous);
@@ -163,6 +169,8 @@ protected:
   sl_sim::Scene scene_;
   double radius_ = 0.1675, height_ = 0.173, clearance_ = 0.40;
   double path_ = 0.0;
+  geometry_msgs::Pose start_;  // the first true pose
+  double progress_ = 0.0;      // farthest along the start heading, m
   double nearest_ = std::numeric_limits<double>::infinity();
   unsigned states_seen_ = 0;
   ros::WallTime last_motion_;
@@ -186,6 +194,7 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   ASSERT_TRUE(ros::param::get("~scene", scene_file)) << "~scene is required";
   const double duration = privateParam("duration", 60.0);
   const double min_travel = privateParam("min_travel", 0.0);
+  const double min_progress = privateParam("min_progress", 0.0);
   const double tolerance = privateParam("tolerance", 0.010);
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -218,6 +227,8 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   EXPECT_GT(contact_messages_, 0) << "no contact messages: the check above saw nothing";
   EXPECT_GT(nearest_, 0.0) << "the disc overlapped an object";
   EXPECT_GE(path_, min_travel) << "the robot did not move enough where the space allows";
+  ROS_INFO("explore %s: %.2f m along the start heading", scene_.name.c_str(), progress_);
+  EXPECT_GE(progress_, min_progress) << "the robot did not get far enough along its start heading";
   for (const double e : stop_errors_)
     EXPECT_LE(std::abs(e), tolerance) << "stop " << e << " m off the clearance (obstacle in the path)";
   for (const double e : side_stop_errors_)

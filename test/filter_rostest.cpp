@@ -9,10 +9,17 @@
 //   ~scenario "arcs": arcs to both sides past a thin dark leg; the robot moves and never touches.
 //   ~scenario "takeover" (command_mode action): a command on cmd_vel_in takes over from autonomy
 //     while the user publishes and ~teleop_hold seconds after, then autonomy drives again.
+//   ~scenario "start" (a wall at ~wall_x): from a standstill, without looking around, the first
+//     forward command moves the robot within 1 s (it creeps through the ring around its body that the
+//     camera cannot see), then it drives on and stops at the wall at ~clearance +- ~tolerance.
+//   ~scenario "dock" (corridor_closed_behind.yaml, the end wall 0.17 m behind the robot): reverse at
+//     the start does not move it (nothing behind is its trail); forward moves within 1 s and drives
+//     down the corridor; reverse then brings it back along its trail, never beyond the start.
 // Every run: no contact, no bumper, no collision of the robot's disc in any direction.
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -68,6 +75,9 @@ protected:
       path_ += step;
       if (step > 2e-4)
         last_move_ = t;
+      if (moved_at_.isZero() && stepBetween(now, move_from_) > kMoved)
+        moved_at_ = t;
+      min_x_ = std::min(min_x_, now.position.x);
       if (turn > 1e-3)
         last_turn_ = t;
       const double dt = (t - pose_time_).toSec();
@@ -75,6 +85,8 @@ protected:
       {
         speed_ = step / dt;
         max_speed_ = std::max(max_speed_, speed_);
+        if (last_status_.reason_code == S::REASON_CREEPING)
+          creep_max_ = std::max(creep_max_, speed_);
       }
     }
     pose_time_ = t;
@@ -150,6 +162,23 @@ protected:
   void runWall();
   void runArcs();
   void runTakeover();
+  void runStart();
+  void runDock();
+
+  /// Publishes (v, 0) from a standstill until the robot has moved kMoved from where it stood (at most
+  /// 5 s); @return the time from the first command to that motion (s; inf if it never moved).
+  double timeToMove(double v)
+  {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      move_from_ = pose_;
+      moved_at_ = ros::Time();
+    }
+    const ros::Time first = ros::Time::now();
+    command(v, 0.0, 5.0, [&] { return !moved_at_.isZero(); });
+    std::lock_guard<std::mutex> lock(mutex_);
+    return moved_at_.isZero() ? std::numeric_limits<double>::infinity() : (moved_at_ - first).toSec();
+  }
 
   /// Waits up to @p seconds until @p done (called with mutex_ held) is true; @return done().
   template <typename Done>
@@ -178,6 +207,11 @@ protected:
   unsigned long long reasons_seen_ = 0;
   S last_status_;
   double wall_x_ = 1.0, radius_ = 0.1675;
+  static constexpr double kMoved = 0.002;  // m from where it stood: the robot moved
+  geometry_msgs::Pose move_from_;
+  ros::Time moved_at_{ 1, 0 };  // not zero: nobody waits for a motion
+  double min_x_ = std::numeric_limits<double>::infinity();
+  double creep_max_ = 0.0;  // m/s, the highest speed while the filter said CREEPING
 };
 
 void Filter::runWall()
@@ -300,6 +334,86 @@ void Filter::runTakeover()
       << "autonomy gave no command after resuming: " << last_status_.reason;
 }
 
+void Filter::runStart()
+{
+  const double clearance = privateParam("clearance", 0.40);
+  const double tolerance = privateParam("tolerance", 0.010);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    path_ = max_speed_ = 0.0;
+    reasons_seen_ = 0;
+  }
+  // The first forward command, no look around: the robot moves at once, creeping.
+  const double moved_after = timeToMove(0.3);
+  double crept = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ROS_INFO("filter start: moved %.1f mm after %.3f s of the first forward command: %s", kMoved * 1e3, moved_after,
+             last_status_.reason.c_str());
+    EXPECT_LE(moved_after, 1.0) << "the first forward command did not move the robot within 1 s";
+    EXPECT_TRUE(reasons_seen_ & (1ULL << S::REASON_CREEPING)) << "never CREEPING: " << last_status_.reason;
+  }
+  // On toward the wall: creeping while the path crosses cells never seen (here all the way: the
+  // sides of the path nearer than about 0.75 m to the camera were never in view), stopped at the
+  // clearance.
+  const ros::Time start = ros::Time::now();
+  command(0.3, 0.0, 40.0,
+          [&]
+          {
+            if (crept == 0.0 && last_status_.reason_code != S::REASON_CREEPING)
+              crept = path_;
+            return path_ > 0.2 && (ros::Time::now() - last_move_).toSec() > 1.0 &&
+                   (ros::Time::now() - start).toSec() > 3.0;
+          });
+  std::lock_guard<std::mutex> lock(mutex_);
+  ROS_INFO(
+      "filter start: crept %.3f m at up to %.3f m/s, top speed %.3f m/s; stopped %.4f m before the wall "
+      "(clearance %.3f) after %.1f s, path %.3f m: %s",
+      crept > 0.0 ? crept : path_, creep_max_, max_speed_, gap(), clearance, (last_move_ - start).toSec(), path_,
+      last_status_.reason.c_str());
+  EXPECT_NEAR(gap(), clearance, tolerance) << "stop off the clearance";
+  EXPECT_LE(creep_max_, 0.05 + 0.01) << "faster than creep_speed over cells never seen";
+  EXPECT_EQ(last_status_.reason_code, S::REASON_STOPPED_OBSTACLE) << last_status_.reason;
+}
+
+void Filter::runDock()
+{
+  geometry_msgs::Pose start;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    start = pose_;
+  }
+  // Reverse at the start: the end wall is 0.17 m behind, and nothing behind is the robot's trail.
+  command(-0.15, 0.0, 2.0);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ROS_INFO("filter dock: reverse at the start moved %.4f m: %s", stepBetween(pose_, start),
+             last_status_.reason.c_str());
+    EXPECT_LT(stepBetween(pose_, start), 0.003) << "reversed where the robot never was";
+    EXPECT_EQ(last_status_.reason_code, S::REASON_STOPPED_OBSTACLE) << last_status_.reason;
+  }
+  // Forward down the corridor: moves at once.
+  const double moved_after = timeToMove(0.3);
+  command(0.3, 0.0, 10.0);
+  double forward = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    forward = pose_.position.x - start.position.x;
+    ROS_INFO("filter dock: moved after %.3f s, %.3f m down the corridor in 10 s: %s", moved_after, forward,
+             last_status_.reason.c_str());
+    EXPECT_LE(moved_after, 1.0) << "the first forward command did not move the robot within 1 s";
+    EXPECT_GT(forward, 0.3) << "the robot did not drive down the corridor";
+    min_x_ = pose_.position.x;
+  }
+  // Reverse all the way: back along the trail, stopped before its end (the start).
+  command(-0.15, 0.0, forward / 0.15 + 8.0);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ROS_INFO("filter dock: reversed to %.4f m before the start (trail end 0.01 m behind it, less 0.02 m): %s",
+           min_x_ - start.position.x, last_status_.reason.c_str());
+  EXPECT_GE(min_x_, start.position.x - 0.01) << "reversed beyond the trail's end";
+  EXPECT_LT(pose_.position.x - start.position.x, 0.05) << "did not come back along the trail";
+}
+
 TEST_F(Filter, DrivesWhereTheUserSaysExceptIntoThings)
 {
   std::string scenario = "wall";
@@ -326,6 +440,10 @@ TEST_F(Filter, DrivesWhereTheUserSaysExceptIntoThings)
     runWall();
   else if (scenario == "arcs")
     runArcs();
+  else if (scenario == "start")
+    runStart();
+  else if (scenario == "dock")
+    runDock();
   else
     runTakeover();
   expectNoContact();

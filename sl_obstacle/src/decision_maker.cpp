@@ -30,6 +30,7 @@ void DecisionParams::validate() const
   requireInRange("deceleration", deceleration, 0.0, 10.0);
   requireInRange("backoff_distance", backoff_distance, 0.01, 2.0);
   requireInRange("backoff_speed", backoff_speed, 0.01, 0.5);
+  requireInRange("creep_speed", creep_speed, 0.0, 0.05);
   if (slow_distance <= safety_margin)
   {
     detail::refuse("slow_distance", "must be greater than safety_margin", slow_distance);
@@ -120,6 +121,8 @@ const char* toString(Reason reason)
       return "BACKING_OFF";
     case Reason::NO_ODOMETRY:
       return "NO_ODOMETRY";
+    case Reason::CREEPING:
+      return "CREEPING";
   }
   return "?";
 }
@@ -149,6 +152,7 @@ FrameSummary summarize(const VolumeResult& result, double stamp)
   f.coverage = result.coverage;
   f.left_free = result.left_free;
   f.right_free = result.right_free;
+  f.open_distance = result.free_distance;
   return f;
 }
 
@@ -192,6 +196,7 @@ void DecisionMaker::reset()
   turn_dir_ = 1;
   backoffs_done_ = 0;
   backoff_sent_ = false;
+  creeping_ = false;
 }
 
 void DecisionMaker::onFrame(const FrameSummary& frame)
@@ -273,6 +278,18 @@ DecisionMaker::Assessment DecisionMaker::assess(const FrameSummary& f) const
   const double distance = f.free_distance - params_.safety_margin;
   if (!(distance >= params_.min_goal_distance))
   {
+    const double open = f.open_distance - params_.safety_margin;
+    if (f.from_map && params_.creep_speed > 0.0 && f.view_seen && open >= params_.min_goal_distance)
+    {
+      // Only cells never seen to hold anything lie ahead, and the camera sees at the margin: the
+      // ring around the body it cannot see. Creep into it; the bumper is the last line.
+      a.kind = Assessment::DRIVE;
+      a.creep = true;
+      a.distance = open;
+      a.speed = std::min(params_.creep_speed, speedForFree(f.open_distance));
+      a.reason = Reason::CREEPING;
+      return a;
+    }
     a.kind = Assessment::UNKNOWN_AHEAD;
     a.reason = Reason::UNKNOWN_AHEAD;
     return a;
@@ -313,7 +330,14 @@ void DecisionMaker::describe(const Assessment& a, const FrameSummary& f)
               f.free_distance, params_.safety_margin, f.nearest_obstacle);
       break;
     case Assessment::DRIVE:
-      if (a.reason == Reason::PATH_FREE)
+      if (a.creep)
+      {
+        setText(
+            "known free only to %.3f m, never-seen cells to %.3f m, the view at the margin known: creeping goal "
+            "%.3f m at %.3f m/s",
+            f.free_distance, f.open_distance, a.distance, a.speed);
+      }
+      else if (a.reason == Reason::PATH_FREE)
       {
         setText("path free for %.3f m: goal %.3f m at %.3f m/s", f.free_distance, a.distance, a.speed);
       }
@@ -336,6 +360,7 @@ void DecisionMaker::drive(const Assessment& a, const FrameSummary& f)
   set(a.speed >= params_.max_speed - 1e-9 ? State::DRIVING : State::SLOWING, a.reason, Command::DRIVE);
   decision_.distance = a.distance;
   decision_.speed = a.speed;
+  creeping_ = a.creep;
   describe(a, f);
 }
 
@@ -350,6 +375,7 @@ void DecisionMaker::startCycle(double now, Reason reason, const char* why)
   phase_start_ = now;
   turns_done_ = 0;
   cycle_reason_ = reason;
+  start_reason_ = reason;
   cycle_text_.assign(why);
   // Toward the freer side (from a map: the side of the freest heading); on a tie keep the previous
   // direction.
@@ -366,11 +392,11 @@ void DecisionMaker::startCycle(double now, Reason reason, const char* why)
   stopHere(now);
 }
 
-void DecisionMaker::startTurn(double now)
+void DecisionMaker::startTurn(double now, int steps)
 {
   phase_ = Phase::TURN;
   phase_start_ = now;
-  turn_end_ = now + params_.turn_angle / params_.turn_speed;
+  turn_end_ = now + steps * params_.turn_angle / params_.turn_speed;
 }
 
 void DecisionMaker::stepCycle(double now, const MotionState& motion)
@@ -379,6 +405,19 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
   decision_.blocked = true;
   if (phase_ == Phase::SETTLE)
   {
+    // Blocked only by what was not known yet (the very first cloud comes before its rays are in the
+    // map): a cloud taken since may show a way, a creep included, before any turn.
+    if (cycle_reason_ == Reason::UNKNOWN_AHEAD && frame_.stamp > phase_start_)
+    {
+      const Assessment a = assess(frame_);
+      if (a.kind == Assessment::DRIVE)
+      {
+        phase_ = Phase::NONE;
+        decision_.blocked = false;
+        drive(a, frame_);
+        return;
+      }
+    }
     if (now - phase_start_ < params_.settle_time)
     {
       set(State::BLOCKED, cycle_reason_, Command::STOP);
@@ -427,13 +466,21 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
     cycle_text_.assign(decision_.text);
     if (turns_done_ < params_.max_turns)
     {
-      if (frame_.from_map && frame_.best_turn != 0.0 &&
-          frame_.best_turn_free - params_.safety_margin >= params_.min_goal_distance)
+      int steps = 1;
+      if (frame_.from_map && start_reason_ == Reason::UNKNOWN_AHEAD && turns_done_ == 1)
       {
-        turn_dir_ = frame_.best_turn > 0.0 ? 1 : -1;  // the map knows a free heading: turn toward it
-        side = turn_dir_ > 0 ? "left" : "right";
+        // Blocked by what was never seen, and one side looked at in vain: look at the other side
+        // of the first heading too (two steps back) before choosing where to go.
+        turn_dir_ = -turn_dir_;
+        steps = 2;
       }
-      startTurn(now);
+      else if (frame_.from_map && frame_.best_turn != 0.0 &&
+               frame_.best_turn_free - params_.safety_margin >= params_.min_goal_distance)
+      {
+        turn_dir_ = frame_.best_turn > 0.0 ? 1 : -1;  // the map knows a way: turn toward it
+      }
+      side = turn_dir_ > 0 ? "left" : "right";
+      startTurn(now, steps);
       set(State::TURNING, Reason::TURNING, Command::TURN);
       decision_.angular_speed = turn_dir_ * params_.turn_speed;
       setText("turning %s, step %d of %d (%s)", side, turns_done_ + 1, params_.max_turns, cycle_text_.c_str());
@@ -469,6 +516,7 @@ bool DecisionMaker::startBackoff(double now)
   {
     return false;
   }
+  creeping_ = false;
   const double enough = params_.min_goal_distance;
   if (frame_.reverse_free >= enough)
   {
@@ -552,6 +600,11 @@ void DecisionMaker::stepRunningGoal(double now, const MotionState& motion)
             params_.safety_margin, params_.min_goal_distance);
     return;
   }
+  if (creeping_)
+  {
+    stepCreep(now, motion);
+    return;
+  }
   if (limit < remaining - params_.preempt_tolerance)
   {
     const double speed = speedForFree(nearest);
@@ -585,6 +638,31 @@ void DecisionMaker::stepRunningGoal(double now, const MotionState& motion)
       Command::NONE);
   setText("driving: %.3f m to go at %.3f m/s, nearest obstacle %.3f m, coverage %.2f", remaining, motion.goal_speed,
           nearest, frame_.coverage);
+}
+
+void DecisionMaker::stepCreep(double now, const MotionState& motion)
+{
+  const double remaining = motion.goal_remaining;
+  const Assessment a = assess(frame_);
+  if (a.kind != Assessment::DRIVE)
+  {
+    // The creep rule no longer holds (something seen ahead, or the view at the margin unknown).
+    stopHere(now);
+    describe(a, frame_);
+    set(State::BLOCKED, a.reason, Command::STOP);
+    decision_.blocked = true;
+    return;
+  }
+  const bool shorter = a.creep && a.distance < remaining - params_.preempt_tolerance;
+  const bool longer = a.distance > remaining + params_.replan_distance;
+  if ((!a.creep || shorter || longer) && frame_.stamp >= motion_end_)
+  {
+    drive(a, frame_);  // known free now (full goal), or a new creep goal of the open travel
+    return;
+  }
+  set(State::SLOWING, Reason::CREEPING, Command::NONE);
+  setText("creeping: %.3f m to go at %.3f m/s over never-seen cells (known free %.3f m, open %.3f m)", remaining,
+          motion.goal_speed, frame_.free_distance, frame_.open_distance);
 }
 
 void DecisionMaker::stepIdle(double now, const MotionState& motion)

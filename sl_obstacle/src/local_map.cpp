@@ -130,6 +130,7 @@ LocalMap::LocalMap(const MapParams& p) : params_(p)
   logodds_.assign(voxels, 0.0F);
   updated_.assign(cells, -kInf);
   extent_.assign(cells, LocalMap::kNoExtent);
+  trail_.assign(cells, 0);
   flags_.assign(voxels, 0);
   touched_.assign(voxels, 0);
   recenter(0.0, 0.0);
@@ -161,6 +162,7 @@ void LocalMap::clear()
   std::fill(logodds_.begin(), logodds_.end(), 0.0F);
   std::fill(updated_.begin(), updated_.end(), -kInf);
   std::fill(extent_.begin(), extent_.end(), LocalMap::kNoExtent);
+  std::fill(trail_.begin(), trail_.end(), 0);
 }
 
 void LocalMap::clearColumn(int rx)
@@ -171,6 +173,7 @@ void LocalMap::clearColumn(int rx)
     std::fill_n(logodds_.begin() + cell * slices_, slices_, 0.0F);
     updated_[cell] = -kInf;
     extent_[cell] = LocalMap::kNoExtent;
+    trail_[cell] = 0;
   }
 }
 
@@ -180,6 +183,7 @@ void LocalMap::clearRow(int ry)
   std::fill_n(logodds_.begin() + first * slices_, static_cast<std::size_t>(n_) * slices_, 0.0F);
   std::fill_n(updated_.begin() + first, n_, -kInf);
   std::fill_n(extent_.begin() + first, n_, LocalMap::kNoExtent);
+  std::fill_n(trail_.begin() + first, n_, 0);
 }
 
 void LocalMap::recenter(double x, double y)
@@ -495,6 +499,40 @@ void LocalMap::markOccupiedDisc(double x, double y, double radius, double stamp)
   setDisc(x, y, radius, stamp, static_cast<float>(params_.clamp));
 }
 
+void LocalMap::markTrail(double x0, double y0, double x1, double y1, double radius)
+{
+  if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1) || !std::isfinite(radius) ||
+      radius < 0.0)
+  {
+    return;
+  }
+  const double res = params_.resolution;
+  const double dx = x1 - x0;
+  const double dy = y1 - y0;
+  const double length2 = dx * dx + dy * dy;
+  const double r2 = radius * radius;
+  const int y_lo = std::max(oy_, cellIndex(std::min(y0, y1) - radius));
+  const int y_hi = std::min(oy_ + n_ - 1, cellIndex(std::max(y0, y1) + radius));
+  const int x_lo = std::max(ox_, cellIndex(std::min(x0, x1) - radius));
+  const int x_hi = std::min(ox_ + n_ - 1, cellIndex(std::max(x0, x1) + radius));
+  for (int iy = y_lo; iy <= y_hi; ++iy)
+  {
+    const double py = (iy + 0.5) * res - y0;
+    for (int ix = x_lo; ix <= x_hi; ++ix)
+    {
+      const double px = (ix + 0.5) * res - x0;
+      // Distance from the cell's centre to the nearest point of the segment.
+      const double t = length2 > 0.0 ? std::max(0.0, std::min(1.0, (px * dx + py * dy) / length2)) : 0.0;
+      const double ex = px - t * dx;
+      const double ey = py - t * dy;
+      if (ex * ex + ey * ey <= r2)
+      {
+        trail_[slot(ix - ox_, iy - oy_)] = 1;
+      }
+    }
+  }
+}
+
 CellState LocalMap::slotState(std::size_t cell, double now, bool* suspect_out) const
 {
   const float* l = &logodds_[cell * slices_];
@@ -535,6 +573,23 @@ CellState LocalMap::cellState(int ix, int iy, double now) const
     return CellState::Unknown;
   }
   return slotState(slot(static_cast<int>(lx), static_cast<int>(ly)), now, nullptr);
+}
+
+CellInfo LocalMap::cellInfo(int ix, int iy, double now) const
+{
+  CellInfo info;
+  const long lx = static_cast<long>(ix) - ox_;
+  const long ly = static_cast<long>(iy) - oy_;
+  if (lx < 0 || lx >= n_ || ly < 0 || ly >= n_)
+  {
+    return info;
+  }
+  const std::size_t cell = slot(static_cast<int>(lx), static_cast<int>(ly));
+  info.state = slotState(cell, now, nullptr);
+  const float* l = &logodds_[cell * slices_];
+  info.evidence = *std::max_element(l, l + slices_) > 0.0F;  // decay never changes the sign
+  info.trail = trail_[cell] != 0;
+  return info;
 }
 
 CellState LocalMap::state(double x, double y, double now) const

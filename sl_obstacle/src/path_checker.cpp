@@ -73,18 +73,30 @@ struct Sweep
   }
 };
 
-/// Accumulates the swept cells into a PathResult.
-void account(CellState state, double entry, PathResult& out, int& known)
+/// Accumulates the swept cells into a PathResult; @p far: the cell lies beyond the blind radius.
+void account(const CellInfo& cell, double entry, bool far, PathResult& out, int& known)
 {
   ++out.swept_cells;
-  if (state == CellState::Occupied)
+  if (!cell.trail)
+  {
+    out.off_trail = std::min(out.off_trail, entry);
+  }
+  if (cell.state == CellState::Occupied)
   {
     out.obstacle = std::min(out.obstacle, entry);
     ++known;
   }
-  else if (state == CellState::Unknown)
+  else if (cell.state == CellState::Unknown)
   {
     out.unknown = std::min(out.unknown, entry);
+    if (cell.evidence)
+    {
+      out.evidence = std::min(out.evidence, entry);
+    }
+    else if (far)
+    {
+      out.unseen_far = std::min(out.unseen_far, entry);
+    }
   }
   else
   {
@@ -100,7 +112,7 @@ void FootprintParams::validate() const
 }
 
 PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, int direction,
-                         double max_distance, double now)
+                         double max_distance, double now, double blind_radius)
 {
   if (direction != 1 && direction != -1)
   {
@@ -145,12 +157,29 @@ PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double 
       {
         continue;
       }
-      account(map.cellState(ix, iy, now), entry, out, known);
+      account(map.cellInfo(ix, iy, now), entry, d2 > blind_radius * blind_radius, out, known);
     }
   }
   out.free = std::min(max_distance, std::min(out.obstacle, out.unknown));
   out.known_fraction = out.swept_cells > 0 ? static_cast<double>(known) / out.swept_cells : 1.0;
   return out;
+}
+
+bool centreLineSeen(const LocalMap& map, double x, double y, double yaw, double radius, double from, double to,
+                    double now)
+{
+  const double step = 0.25 * map.params().resolution;
+  const double c = std::cos(yaw);
+  const double s = std::sin(yaw);
+  for (double d = radius + from; d <= radius + to + 1e-9; d += step)
+  {
+    const CellState state = map.state(x + d * c, y + d * s, now);
+    if (state != CellState::Free)
+    {
+      return state == CellState::Occupied;  // behind an obstacle lies its shadow
+    }
+  }
+  return true;
 }
 
 HeadingChoice bestHeading(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, double step,

@@ -76,6 +76,7 @@ void FilterParams::validate() const
   detail::requireInRange("check_distance", horizon, 0.1, 10.0);
   detail::requireInRange("input_timeout", input_timeout, 0.01, 60.0);
   detail::requireInRange("stale_timeout", stale_timeout, 0.01, 60.0);
+  detail::requireInRange("creep_speed", creep_speed, 0.0, 0.05);
 }
 
 const char* toString(FilterReason reason)
@@ -86,6 +87,8 @@ const char* toString(FilterReason reason)
       return "PASSED";
     case FilterReason::LIMITED:
       return "LIMITED";
+    case FilterReason::CREEPING:
+      return "CREEPING";
     case FilterReason::STOPPED_OBSTACLE:
       return "STOPPED_OBSTACLE";
     case FilterReason::INPUT_TIMEOUT:
@@ -121,6 +124,8 @@ ArcResult sweepArc(const LocalMap& map, double radius, const Pose2D& pose, int d
     out.free = p.free;
     out.obstacle = p.obstacle;
     out.unknown = p.unknown;
+    out.evidence = p.evidence;
+    out.off_trail = p.off_trail;
     return out;
   }
   const double res = map.params().resolution;
@@ -150,14 +155,22 @@ ArcResult sweepArc(const LocalMap& map, double radius, const Pose2D& pose, int d
         {
           continue;  // not under this disc, or counted at an earlier sample, or under the robot now
         }
-        const CellState state = map.cellState(ix, iy, now);
-        if (state == CellState::Occupied)
+        const CellInfo cell = map.cellInfo(ix, iy, now);
+        if (!cell.trail)
+        {
+          out.off_trail = std::min(out.off_trail, entry);
+        }
+        if (cell.state == CellState::Occupied)
         {
           out.obstacle = std::min(out.obstacle, entry);
         }
-        else if (state == CellState::Unknown)
+        else if (cell.state == CellState::Unknown)
         {
           out.unknown = std::min(out.unknown, entry);
+          if (cell.evidence)
+          {
+            out.evidence = std::min(out.evidence, entry);
+          }
         }
       }
     }
@@ -221,40 +234,76 @@ SafetyFilter::SafetyFilter(const FilterParams& params) : params_(params)
   params_.validate();
 }
 
-double SafetyFilter::travel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const
+SafetyFilter::Travels SafetyFilter::travels(const LocalMap& map, const FilterInput& in, double v, double w,
+                                            double length) const
 {
   const int direction = v > 0.0 ? 1 : -1;
   const double curvature = w / std::abs(v);
   const FootprintParams& fp = params_.footprint;
   const double res = map.params().resolution;
   const ArcResult swept = sweepArc(map, fp.sweptRadius(), in.pose, direction, curvature, length, in.now);
+  const double cloud =
+      in.obstacles != nullptr ? arcContact(*in.obstacles, fp.radius, direction, curvature, length) : kInf;
+  Travels t;
+  if (direction < 0)
+  {
+    // Backwards the camera sees nothing: the disc itself only over its trail, the margin beside it
+    // over free cells, stopping the margin short of the trail's end.
+    const double trail = sweepArc(map, fp.radius, in.pose, direction, curvature, length, in.now).off_trail;
+    t.known = std::min({ swept.free, trail, cloud, length }) - fp.lateral_margin;
+    t.open = t.known;
+    return t;
+  }
   // Contact is a matter of the disc itself; widened by half a cell's diagonal, a cell counts from
   // its nearest corner (as WorldModel::summarize() does).
   const double body = sweepArc(map, fp.radius + 0.71 * res, in.pose, direction, curvature, length, in.now).obstacle;
-  const double cloud =
-      in.obstacles != nullptr ? arcContact(*in.obstacles, fp.radius, direction, curvature, length) : kInf;
   // Where the cloud sees the obstacle the map stops at, its exact distance replaces the cells'; the
   // unknown cells just behind that obstacle (no ray passed it) are reached only through it.
   const bool same = std::isfinite(cloud) && std::abs(body - cloud) <= 3.0 * res;
-  const double free =
-      same ? (swept.unknown >= body ? cloud : std::min(cloud, swept.unknown)) : std::min(swept.free, cloud);
-  return std::min(free, length) - params_.clearance;
+  const auto before = [&](double cells) { return same && cells >= body ? cloud : std::min(cloud, cells); };
+  const double known = same ? before(swept.unknown) : std::min(swept.free, cloud);
+  const double open = same ? before(swept.evidence) : std::min({ swept.obstacle, swept.evidence, cloud });
+  t.known = std::min(known, length) - params_.clearance;
+  t.open = std::min(open, length) - params_.clearance;
+  return t;
 }
 
-double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out) const
+double SafetyFilter::travel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const
+{
+  return travels(map, in, v, w, length).known;
+}
+
+double SafetyFilter::openTravel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const
+{
+  return travels(map, in, v, w, length).open;
+}
+
+double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out,
+                                bool& creeping) const
 {
   const double sign = v > 0.0 ? 1.0 : -1.0;
   const double a = params_.deceleration;
   const double margin = 2.0 * map.params().resolution;
+  // The creep rule holds only forward, and only while the camera sees straight ahead at the
+  // clearance (a working sensor, and nothing near in front of it that shadows the view): then what
+  // the arc crosses unseen is the ring around the body the camera cannot see.
+  const bool may_creep = v > 0.0 && params_.creep_speed > 0.0 &&
+                         centreLineSeen(map, in.pose.x, in.pose.y, in.pose.yaw, params_.footprint.radius,
+                                        params_.clearance, params_.clearance + 2.0 * map.params().resolution, in.now);
   double speed = std::abs(v);
+  creeping = false;
   for (int iteration = 0; iteration < 8 && speed >= kStill; ++iteration)
   {
     // Only the stopping distance and the clearance need checking (plus a little, so that free
     // space there still allows the speed).
     const double stop = a > 0.0 ? speed * speed / (2.0 * a) : 0.0;
     const double length = std::min(params_.horizon, stop + params_.clearance + margin);
-    out.travel = travel(map, in, sign * speed, w, length);
-    out.speed_limit = speedFor(out.travel, a);
+    const Travels t = travels(map, in, sign * speed, w, length);
+    const double known_limit = speedFor(t.known, a);
+    const double creep_limit = may_creep ? std::min(params_.creep_speed, speedFor(t.open, a)) : 0.0;
+    creeping = creep_limit > known_limit;
+    out.travel = creeping ? t.open : t.known;
+    out.speed_limit = std::max(known_limit, creep_limit);
     out.curvature = w / speed;
     if (speed <= out.speed_limit)
     {
@@ -264,6 +313,7 @@ double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, doub
     speed = isStraight(w / speed, length) ? out.speed_limit : std::min(out.speed_limit, 0.7 * speed);
   }
   out.curvature = 0.0;
+  creeping = false;
   return 0.0;
 }
 
@@ -310,9 +360,18 @@ FilterOutput SafetyFilter::filter(const LocalMap& map, const FilterInput& in) co
     out.text = text;
     return out;
   }
-  out.command.linear = limitSpeed(map, in, v, w, out);
+  bool creeping = false;
+  out.command.linear = limitSpeed(map, in, v, w, out, creeping);
   out.scale = std::abs(out.command.linear) / std::abs(v);
-  if (out.command.linear == v)
+  if (creeping)
+  {
+    out.reason = FilterReason::CREEPING;
+    std::snprintf(text, sizeof(text),
+                  "arc crosses cells never seen (%.3f m open beyond the clearance, the view at the clearance "
+                  "known): %.3f m/s gives %.3f m/s (creep_speed %.3f m/s)",
+                  out.travel, v, out.command.linear, params_.creep_speed);
+  }
+  else if (out.command.linear == v)
   {
     out.reason = FilterReason::PASSED;
     std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance: %.3f m/s passed", out.travel, v);
@@ -326,9 +385,10 @@ FilterOutput SafetyFilter::filter(const LocalMap& map, const FilterInput& in) co
   else
   {
     out.reason = FilterReason::STOPPED_OBSTACLE;
-    std::snprintf(text, sizeof(text), "%s within the clearance on the arc: %.3f m/s stopped%s",
-                  v > 0.0 ? "obstacle or unknown space" : "obstacle or unknown space behind", v,
-                  w != 0.0 ? ", turning passed" : "");
+    std::snprintf(text, sizeof(text), "%s: %.3f m/s stopped%s",
+                  v > 0.0 ? "obstacle or unknown space within the clearance on the arc"
+                          : "end of the trail (or an obstacle) behind within the lateral margin",
+                  v, w != 0.0 ? ", turning passed" : "");
   }
   out.text = text;
   return out;

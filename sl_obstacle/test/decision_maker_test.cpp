@@ -488,6 +488,8 @@ TEST(DecisionMaker, BadParametersAreRejectedNamingTheParameter)
     { "turn_angle", [](DecisionParams& p) { p.turn_angle = 0.0; } },
     { "max_turns", [](DecisionParams& p) { p.max_turns = -1; } },
     { "settle_time", [](DecisionParams& p) { p.settle_time = -1.0; } },
+    { "creep_speed", [](DecisionParams& p) { p.creep_speed = 0.06; } },  // the creep is 0.05 m/s at most
+    { "creep_speed", [](DecisionParams& p) { p.creep_speed = -0.01; } },
   };
   for (const BadCase& c : cases)
   {

@@ -281,6 +281,60 @@ TEST(LocalMap, TheTrailKeepsWhatWasSeenBesideTheBody)
   EXPECT_EQ(map.state(0.51, 0.01, 0.0), CellState::Free) << "markFreeDisc overrides everything";
 }
 
+TEST(LocalMap, TheTrailHoldsTheCellsTheDiscCovered)
+{
+  LocalMap map{ MapParams() };
+  // A disc of 0.1775 m driven from (0, 0) to (0.5, 0): cell centres within 0.1775 of the segment.
+  map.markTrail(0.0, 0.0, 0.5, 0.0, 0.1775);
+  const auto trail = [&](double x, double y) { return map.cellInfo(map.cellIndex(x), map.cellIndex(y), 0.0).trail; };
+  EXPECT_TRUE(trail(0.25, 0.17));    // centre (0.25, 0.17): 0.17 from the segment
+  EXPECT_FALSE(trail(0.25, 0.19));   // centre (0.25, 0.19): 0.19
+  EXPECT_TRUE(trail(0.67, 0.01));    // beyond the end: 0.170 from (0.5, 0)
+  EXPECT_FALSE(trail(0.69, 0.01));   // 0.190
+  EXPECT_TRUE(trail(-0.17, -0.01));  // behind the start
+  // The trail changes no log-odds: an unknown cell stays unknown, without evidence.
+  const CellInfo c = map.cellInfo(map.cellIndex(0.25), map.cellIndex(0.0), 0.0);
+  EXPECT_EQ(c.state, CellState::Unknown);
+  EXPECT_FALSE(c.evidence);
+  // A point (a standing robot) marks its disc; non-finite input and negative radii are ignored.
+  map.markTrail(-1.0, 1.0, -1.0, 1.0, 0.05);
+  EXPECT_TRUE(trail(-0.99, 1.01));
+  EXPECT_FALSE(trail(-0.93, 1.01));
+  map.markTrail(std::nan(""), 0.0, 1.0, 1.0, 0.5);
+  map.markTrail(1.0, 1.0, 1.0, 1.0, -0.5);
+  EXPECT_FALSE(trail(1.01, 1.01));
+  // The trail is forgotten with the cell: when the window moves past it, and by clear().
+  map.recenter(10.0, 0.0);
+  map.recenter(0.0, 0.0);
+  EXPECT_FALSE(trail(0.25, 0.0));
+  map.markTrail(0.0, 0.0, 0.5, 0.0, 0.1775);
+  map.clear();
+  EXPECT_FALSE(trail(0.25, 0.0));
+  EXPECT_FALSE(map.cellInfo(100000, 0, 0.0).trail) << "outside the window";
+}
+
+TEST(LocalMap, EvidenceTellsNeverSeenFromSeenToHoldSomething)
+{
+  LocalMap map{ MapParams() };
+  const auto info = [&](double x, double y, double now)
+  { return map.cellInfo(map.cellIndex(x), map.cellIndex(y), now); };
+  EXPECT_FALSE(info(0.5, 0.01, 0.0).evidence) << "never seen";
+  // One low ray: its cells are free in the low slice only (no ray crossed the high one): unknown,
+  // but nothing was found there. Its lit end is a lone suspect: unknown with evidence.
+  map.insert({ ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect) }, 0.0);
+  EXPECT_EQ(info(0.3, 0.01, 0.0).state, CellState::Unknown);
+  EXPECT_FALSE(info(0.3, 0.01, 0.0).evidence);
+  EXPECT_EQ(info(0.61, 0.01, 0.0).state, CellState::Unknown);
+  EXPECT_TRUE(info(0.61, 0.01, 0.0).evidence);
+  // An occupied cell decayed below occupied_threshold keeps its evidence; a free one has none.
+  map.insert(bothSlices(0.0F, 1.01F, -0.31F, RayKind::Hit), 0.0);
+  EXPECT_EQ(info(1.01, -0.31, 0.0).state, CellState::Occupied);
+  EXPECT_EQ(info(1.01, -0.31, 20.0).state, CellState::Unknown);
+  EXPECT_TRUE(info(1.01, -0.31, 20.0).evidence);
+  EXPECT_EQ(info(0.5, -0.31, 0.0).state, CellState::Free);
+  EXPECT_FALSE(info(0.5, -0.31, 0.0).evidence);
+}
+
 TEST(LocalMap, OccupiedWinsOverFreeInOneCloud)
 {
   LocalMap map{ MapParams() };

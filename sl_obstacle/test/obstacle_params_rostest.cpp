@@ -149,6 +149,8 @@ TEST(ObstacleParams, FilterDefaultsEqualTheCoreDefaultsAndBadValuesAreNamed)
 
   ros::param::set("~filter_bad0/input_timeout", 0.0);
   expectRejected("~filter_bad0", "input_timeout");
+  ros::param::set("~filter_bad5/creep_speed", 0.06);  // the creep is 0.05 m/s at most
+  expectRejected("~filter_bad5", "creep_speed");
   ros::param::set("~filter_bad1/teleop_hold", -1.0);
   expectRejected("~filter_bad1", "teleop_hold");
   ros::param::set("~filter_bad2/command_mode", std::string("filter"));
@@ -177,6 +179,10 @@ TEST(ObstacleParams, MapDefaultsEqualTheCoreDefaults)
   EXPECT_DOUBLE_EQ(w.footprint.radius, core.world.footprint.radius);
   EXPECT_DOUBLE_EQ(w.footprint.lateral_margin, core.world.footprint.lateral_margin);
   EXPECT_DOUBLE_EQ(w.start_free_radius, core.world.start_free_radius);
+  EXPECT_DOUBLE_EQ(w.blind_radius, core.world.blind_radius);
+  EXPECT_DOUBLE_EQ(w.clearance, p.settings.decision.safety_margin);
+  EXPECT_DOUBLE_EQ(p.settings.decision.creep_speed, core.decision.creep_speed);
+  EXPECT_DOUBLE_EQ(p.settings.filter.creep_speed, core.filter.creep_speed);
   EXPECT_DOUBLE_EQ(w.check_distance, core.world.check_distance);
   EXPECT_EQ(w.headings, core.world.headings);
   EXPECT_DOUBLE_EQ(w.heading_step, p.settings.decision.turn_angle);

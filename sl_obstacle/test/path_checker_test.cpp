@@ -155,6 +155,42 @@ TEST(PathChecker, ReverseAlongTheTrail)
   EXPECT_LT(sweepStraight(map, kFp, 1.0, 0.0, 0.0, 1, 0.8, 0.0).free, 2 * kRes);
 }
 
+TEST(PathChecker, TrailAndEvidenceDistances)
+{
+  LocalMap map{ MapParams() };
+  map.markTrail(0.0, 0.0, 1.0, 0.0, kFp.radius + 0.5 * kRes);
+  FootprintParams disc = kFp;
+  disc.lateral_margin = 0.0;
+  // Backwards along the trail the disc (radius 0.1675) reaches the end cap's last cells (0.1775
+  // around the start) after 1.0 m and up to one cell more; forward it leaves the trail at once.
+  const PathResult back = sweepStraight(map, disc, 1.0, 0.0, 0.0, -1, 1.5, 0.0);
+  EXPECT_GE(back.off_trail, 1.0);
+  EXPECT_LE(back.off_trail, 1.0 + kRes);
+  EXPECT_LT(sweepStraight(map, disc, 1.0, 0.0, 0.0, 1, 0.5, 0.0).off_trail, kRes);
+  // Sideways the disc reaches the first row of centres off the trail (y = -0.19, 0.1775 being the
+  // trail's half width) at the centres (0.49, -0.19) and (0.51, -0.19).
+  EXPECT_NEAR(sweepStraight(map, disc, 0.5, 0.0, kPi / 2.0, -1, 0.5, 0.0).off_trail,
+              0.19 - std::sqrt(disc.radius * disc.radius - 0.01 * 0.01), 1e-9);
+
+  // A low ray ending in a lit (suspect) point at x = 0.61: the cells it crossed are unknown without
+  // evidence (the high slice was never crossed), its end is unknown with evidence.
+  LocalMap seen{ MapParams() };
+  seen.insert({ MapRay{ 0.0F, 0.01F, 0.05F, 0.61F, 0.01F, 0.05F, RayKind::Suspect } }, 0.0);
+  const PathResult ahead = sweepStraight(seen, kFp, 0.0, 0.0, 0.0, 1, 1.0, 0.0);
+  EXPECT_LT(ahead.unknown, kRes);
+  const double entry = 0.61 - std::sqrt(kR * kR - 0.01 * 0.01);  // the end cell's centre (0.61, 0.01)
+  EXPECT_NEAR(ahead.evidence, entry, 1e-9);
+  EXPECT_EQ(ahead.obstacle, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(ahead.unseen_far, std::numeric_limits<double>::infinity()) << "no blind_radius given";
+  EXPECT_NEAR(ahead.open(), entry, 1e-9);
+  // With a blind radius, never-seen cells beyond it end the open travel: here (nothing but the low
+  // ray was seen) the first one lies straight ahead, just beyond 0.3 m from the start.
+  const PathResult ring = sweepStraight(seen, kFp, 0.0, 0.0, 0.0, 1, 1.0, 0.0, 0.3);
+  EXPECT_NEAR(ring.unseen_far, 0.3 - kR, kRes);
+  EXPECT_DOUBLE_EQ(ring.open(), ring.unseen_far);
+  EXPECT_DOUBLE_EQ(ring.evidence, ahead.evidence);
+}
+
 TEST(PathChecker, BoxedInOnlyTheTrailIsFree)
 {
   LocalMap map{ MapParams() };

@@ -179,29 +179,57 @@ TEST(SafetyFilter, TurningInPlacePassesEvenAgainstAnObstacle)
   EXPECT_DOUBLE_EQ(out.scale, 0.0);
 }
 
-TEST(SafetyFilter, ReverseAlongTheTrailPassesAndIntoTheUnknownStops)
+/// The robot drove along x from @p x0 to @p x1: its trail (the disc plus half a cell) and the swept
+/// ring beside it marked free, as WorldModel::updatePose() does.
+void driveTrail(LocalMap& map, double x0, double x1, const FilterParams& p)
+{
+  map.markTrail(x0, 0.0, x1, 0.0, p.footprint.radius + 0.5 * kRes);
+  for (double x = x0; x <= x1 + 1e-9; x += 0.01)
+  {
+    map.markFreeDisc(x, 0.0, p.footprint.sweptRadius() + 0.5 * kRes, 0.0);
+  }
+}
+
+TEST(SafetyFilter, ReverseOnlyAlongTheTrail)
 {
   LocalMap map{ MapParams() };
   const SafetyFilter filter;
+  const FilterParams& p = filter.params();
   // Nothing known behind: reverse is refused.
   FilterOutput out = filter.filter(map, inputAt(0.0, 0.0, 0.0, -0.1, 0.0));
   EXPECT_EQ(out.reason, FilterReason::STOPPED_OBSTACLE);
   EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
-  // The robot came from x = -1.2: its trail (the swept radius plus half a cell) is free.
-  for (double x = -1.2; x <= 0.0; x += 0.01)
-  {
-    map.markFreeDisc(x, 0.0, filter.params().footprint.sweptRadius() + 0.5 * kRes, 0.0);
-  }
+  // Free space that is not the trail (a start disc taken as free, cells seen free): still refused.
+  map.markFreeDisc(0.0, 0.0, 0.6, 0.0);
+  out = filter.filter(map, inputAt(0.0, 0.0, 0.0, -0.1, 0.0));
+  EXPECT_EQ(out.reason, FilterReason::STOPPED_OBSTACLE);
+  EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
+  // The robot came from x = -1.2: back along its trail it may go.
+  driveTrail(map, -1.2, 0.0, p);
   out = filter.filter(map, inputAt(0.0, 0.0, 0.0, -0.1, 0.0));
   EXPECT_EQ(out.reason, FilterReason::PASSED);
   EXPECT_DOUBLE_EQ(out.command.linear, -0.1);
-  // Faster backwards than the trail allows: limited by sqrt(2 a d).
-  out = filter.filter(map, inputAt(-0.8, 0.0, 0.0, -0.4, 0.0));
-  EXPECT_EQ(out.reason, FilterReason::LIMITED);
-  EXPECT_LT(out.command.linear, 0.0);
-  EXPECT_NEAR(out.command.linear, -std::sqrt(2.0 * 0.25 * out.travel), 1e-9);
-  // The trail's end cap (0.1975 around x = -1.2) holds the swept disc (0.1875) 0.41 m back.
-  EXPECT_NEAR(out.travel, 0.41 - filter.params().clearance, 0.03);
+  // Faster backwards than the trail allows: |v| = sqrt(2 a d_trail), d_trail the travel until the
+  // disc (0.1675) reaches a cell centre off the trail (0.1775 around x = -1.2: 0.01 m beyond its
+  // start, up to half a cell on the lattice) less the lateral margin.
+  for (const double x : { -1.15, -1.1, -1.0, -0.9 })
+  {
+    out = filter.filter(map, inputAt(x, 0.0, 0.0, -0.4, 0.0));
+    const double d = x + 1.2;  // back to the start pose
+    EXPECT_GE(out.travel, d - p.footprint.lateral_margin - 1e-9) << "at x " << x;
+    EXPECT_LE(out.travel, d + 0.5 * kRes + 1e-9 - p.footprint.lateral_margin + 0.01) << "at x " << x;
+    EXPECT_NEAR(out.command.linear, -std::sqrt(2.0 * p.deceleration * out.travel), 1e-9) << "at x " << x;
+    EXPECT_EQ(out.reason, FilterReason::LIMITED);
+  }
+  // Turned across the trail, reverse ends where the disc reaches the first cell centres off the
+  // trail (y = -0.19, at x -0.61 and -0.59), or the swept disc the first ones not free (y = -0.21),
+  // whichever comes first (here the second, by 0.03 mm), less the lateral margin.
+  out = filter.filter(map, inputAt(-0.6, 0.0, M_PI / 2.0, -0.1, 0.0));
+  const double r = p.footprint.sweptRadius();
+  const double off_trail = 0.19 - std::sqrt(kBody * kBody - 0.01 * 0.01);
+  const double not_free = 0.21 - std::sqrt(r * r - 0.01 * 0.01);
+  EXPECT_NEAR(out.travel, std::min(off_trail, not_free) - p.footprint.lateral_margin, 1e-9);
+  EXPECT_NEAR(out.command.linear, -std::sqrt(2.0 * p.deceleration * out.travel), 1e-9);
 }
 
 TEST(SafetyFilter, UnknownNearFieldAfterATurnGivesNoForwardSpeed)
@@ -212,12 +240,83 @@ TEST(SafetyFilter, UnknownNearFieldAfterATurnGivesNoForwardSpeed)
   insertRect(map, 0.0F, 1.5F, -0.3F, 0.3F, RayKind::Free);
   map.markFreeDisc(0.0, 0.0, 0.2, 0.0);
   const SafetyFilter filter;
+  // The camera has not seen the floor along the new heading: no creep either.
   const FilterOutput out = filter.filter(map, inputAt(0.0, 0.0, M_PI / 3.0, 0.2, 0.3));
   EXPECT_EQ(out.reason, FilterReason::STOPPED_OBSTACLE);
   EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
   EXPECT_DOUBLE_EQ(out.command.angular, 0.3);
   // Straight ahead, where it looked, it may drive.
   EXPECT_GT(filter.filter(map, inputAt(0.0, 0.0, 0.0, 0.2, 0.0)).command.linear, 0.0);
+}
+
+TEST(SafetyFilter, CreepRuleAsAFormula)
+{
+  // The robot at x stands 0.45 .. 0.7 m before a wall at x = 1.2 that the map and the cloud see;
+  // the camera saw the floor free on a strip straight ahead (|y| <= 0.05, x 0.9 .. 1.2); around
+  // its body nothing was ever seen (the ring the camera cannot see). Nothing on the path is known
+  // free (d_known < 0): only the creep rule may move it,
+  //   v_out = min(v, C min(creep_speed, sqrt(2 a d_open))), d_open = contact - clearance,
+  //   C = 1 while the centre line is known (free or occupied) from the clearance to two cells
+  //   beyond it.
+  LocalMap map{ MapParams() };
+  insertRect(map, 0.9F, 1.18F, -0.05F, 0.05F, RayKind::Free);
+  insertRect(map, 1.19F, 1.2F, -0.8F, 0.8F, RayKind::Hit);
+  FilterParams p;
+  p.clearance = 0.40;
+  const SafetyFilter filter(p);
+  int crept = 0;
+  for (int i = 0; i <= 25; ++i)
+  {
+    const double x = 0.45 + 0.01 * i;
+    const std::vector<Point2> wall = wallPoints(1.2, x);
+    const double contact = 1.2 - x - kBody;
+    const double d_open = contact - p.clearance;
+    // The centre line from x + 0.1675 + 0.40 to 0.04 m beyond lies on the seen strip up to the
+    // wall's cell (its shadow behind it not asked for) until it starts behind that cell.
+    const bool c = centreLineSeen(map, x, 0.0, 0.0, kBody, p.clearance, p.clearance + 2.0 * kRes, 0.0);
+    EXPECT_EQ(c, x + kBody + p.clearance < 1.22) << "x " << x;
+    for (const double v : { 0.02, 0.05, 0.1, 0.3 })
+    {
+      FilterInput in = inputAt(x, 0.0, 0.0, v, 0.0);
+      in.obstacles = &wall;
+      const FilterOutput out = filter.filter(map, in);
+      const double expected =
+          c && d_open > 0.0 ? std::min(v, std::min(p.creep_speed, std::sqrt(2.0 * p.deceleration * d_open))) : 0.0;
+      EXPECT_NEAR(out.command.linear, expected, 1e-9) << "x " << x << " v " << v;
+      EXPECT_EQ(out.reason, expected > 0.0 ? FilterReason::CREEPING : FilterReason::STOPPED_OBSTACLE)
+          << "x " << x << " v " << v << ": " << out.text;
+      EXPECT_LT(filter.travel(map, in, v, 0.0, 1.0), 0.0) << "nothing is known free";
+      crept += expected > 0.0 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(crept, 19 * 4) << "x 0.45 .. 0.63: up to the clearance (x = 0.6325)";
+  // Without the strip seen (a robot 0.3 m to the side: the camera saw nothing there) no creep;
+  // neither with the view ahead shadowed by something near (the strip starting beyond it).
+  EXPECT_FALSE(centreLineSeen(map, 0.2, 0.0, 0.0, kBody, p.clearance, p.clearance + 2.0 * kRes, 0.0));
+  EXPECT_DOUBLE_EQ(filter.filter(map, inputAt(0.2, 0.0, 0.0, 0.3, 0.0)).command.linear, 0.0);
+  EXPECT_DOUBLE_EQ(filter.filter(map, inputAt(0.45, 0.3, 0.0, 0.3, 0.0)).command.linear, 0.0);
+  // A cell holding evidence (a lone lit end 0.65 m ahead of base_link) ends the open travel there,
+  // within the clearance: no creep.
+  LocalMap lit{ MapParams() };
+  insertRect(lit, 0.6F, 1.2F, -0.05F, 0.05F, RayKind::Free);
+  lit.insert({ MapRay{ 0.0F, 0.11F, 0.05F, 0.65F, 0.11F, 0.05F, RayKind::Suspect } }, 0.0);
+  const FilterInput near = inputAt(0.0, 0.0, 0.0, 0.3, 0.0);
+  const double entry = 0.65 - std::sqrt(std::pow(p.footprint.sweptRadius(), 2) - 0.11 * 0.11);
+  EXPECT_NEAR(filter.openTravel(lit, near, 0.3, 0.0, 1.0), entry - p.clearance, kRes);
+  EXPECT_DOUBLE_EQ(filter.filter(lit, near).command.linear, 0.0);
+  // Where the path is known free, the creep gives way to the known-free speed.
+  insertRect(lit, -0.4F, 1.2F, -0.6F, 0.6F, RayKind::Free);
+  const FilterOutput k = filter.filter(lit, near);
+  EXPECT_GT(k.command.linear, p.creep_speed);
+  EXPECT_NE(k.reason, FilterReason::CREEPING);
+  // creep_speed 0 switches the rule off.
+  FilterParams off = p;
+  off.creep_speed = 0.0;
+  LocalMap view{ MapParams() };
+  insertRect(view, 0.5F, 1.2F, -0.05F, 0.05F, RayKind::Free);
+  const FilterInput start = inputAt(0.0, 0.0, 0.0, 0.3, 0.0);
+  EXPECT_DOUBLE_EQ(SafetyFilter(off).filter(view, start).command.linear, 0.0);
+  EXPECT_DOUBLE_EQ(SafetyFilter(p).filter(view, start).command.linear, p.creep_speed);
 }
 
 TEST(SafetyFilter, NanOrInfComponentsAreRefused)
@@ -258,8 +357,9 @@ TEST(SafetyFilter, TimeoutsAndOdometry)
   EXPECT_EQ(out.reason, FilterReason::STALE_DATA);
   EXPECT_DOUBLE_EQ(out.command.linear, 0.0);
   EXPECT_DOUBLE_EQ(out.command.angular, 0.5);
-  in.command = Velocity{ -0.1, 0.0 };  // reverse is checked on the map only
+  in.command = Velocity{ -0.1, 0.0 };  // reverse is checked on the map only (the trail)
   in.pose.x = 0.5;
+  driveTrail(map, -0.5, 0.5, filter.params());
   EXPECT_EQ(filter.filter(map, in).reason, FilterReason::PASSED);
   in.localized = false;
   out = filter.filter(map, in);
@@ -340,6 +440,9 @@ TEST(SafetyFilter, BadParametersAreNamed)
   p = FilterParams();
   p.input_timeout = 0.0;
   EXPECT_EQ(validationError(p).rfind("input_timeout", 0), 0U) << validationError(p);
+  p = FilterParams();
+  p.creep_speed = 0.1;  // the creep is 0.05 m/s at most
+  EXPECT_EQ(validationError(p).rfind("creep_speed", 0), 0U) << validationError(p);
   p = FilterParams();
   p.footprint.radius = 0.0;
   EXPECT_EQ(validationError(p).rfind("radius", 0), 0U) << validationError(p);

@@ -140,21 +140,30 @@ TEST(WorldModel, OpenSpaceIsDriven)
   Pose2D robot;
   double now = 0.0;
   driveAndLook(world, robot, 0.0, {}, now);
-  // Standing start: the narrow fan sees the middle of the path only; the sides near the robot are
-  // unknown until it looks around.
-  EXPECT_LT(world.summarize(robot, now).free, 0.40);
-  // A look around in place covers everything from about 0.4 m out; the start area the ring
-  // inside. The view is dark (empty) out to 1.2 m: the robot may drive, but not beyond that.
+  // Standing start: the narrow fan sees the middle of the path from 0.25 m on; nothing around the
+  // body is taken as free (start_free_radius 0), so little is known free, and the path is open
+  // (never-seen cells within blind_radius) only until the sides of the path beyond blind_radius,
+  // which a look around would show.
+  const MapSummary& start = world.summarize(robot, now);
+  EXPECT_LT(start.free, 0.40);
+  EXPECT_LT(start.open, 0.40);
+  EXPECT_DOUBLE_EQ(start.reverse_free, 0.0) << "no trail behind the start";
+  // A look around in place shows everything but the ring within blind_radius: the path is open to
+  // the sensor's range (1.2 m from the camera), though still little of it is known free.
   scan(world, robot, {}, now);
-  const MapSummary& s = world.summarize(robot, now);
-  EXPECT_GT(s.free, 0.9);
-  EXPECT_LT(s.free, 1.25);
+  const MapSummary& looked = world.summarize(robot, now);
+  EXPECT_LT(looked.free, 0.40);
+  EXPECT_GT(looked.open, 1.0);
+  EXPECT_LT(looked.open, 1.25);
+  // Driving through it (the decisions creep there) opens the path.
   driveAndLook(world, robot, 0.6, {}, now);
   const MapSummary& t = world.summarize(robot, now);
   EXPECT_GT(t.free, 0.7) << "0.6 m of driving through a dark (empty) view must open the path";
   EXPECT_LT(t.free, 1.25) << "nothing beyond the sensor's range is known";
   EXPECT_EQ(t.obstacle, kInf);
-  EXPECT_GT(t.reverse_free, 0.5) << "the trail behind is free";
+  // Back along the trail: 0.6 m and up to a cell of its end cap, less the lateral margin.
+  EXPECT_GE(t.reverse_free, 0.6 - 0.02 - 1e-9);
+  EXPECT_LE(t.reverse_free, 0.6 + 0.02 - 0.02 + 1e-9);
 }
 
 TEST(WorldModel, WallAheadStopsAtItsDistance)
@@ -176,7 +185,9 @@ TEST(WorldModel, CandidateHeadingsAreSweptOnRequestAndReusedBriefly)
 {
   // A wall ahead, open space to the sides: the candidate turns are swept with the map, then reused
   // by the decisions in between (for up to kTurnsMaxAge), while straight ahead is always swept anew.
-  WorldModel world(params());
+  WorldParams wp = params();
+  wp.start_free_radius = 0.45;  // so that the headings' known-free paths differ by what the scan saw
+  WorldModel world(wp);
   Pose2D robot;
   double now = 0.0;
   scan(world, robot, { { 0.9, 0.0, M_PI } }, now);
@@ -234,6 +245,7 @@ TEST(WorldModel, BoxedInBacksOffAlongTheTrail)
   const MapSummary& s = world.summarize(robot, now);
   EXPECT_LT(s.best_turn_free, 0.40 + 0.05) << "no heading may be free beyond the clearance";
   EXPECT_GT(s.reverse_free, 0.3) << "the trail behind is free";
+  EXPECT_LE(s.reverse_free, 0.35) << "never beyond the start: the trail ends there";
 
   DecisionParams dp = mapDecisionParams(0.40, 2);
   dp.slow_distance = 0.6;
@@ -257,6 +269,63 @@ TEST(WorldModel, BoxedInBacksOffAlongTheTrail)
     }
   }
   EXPECT_TRUE(backed_off);
+}
+
+TEST(WorldModel, DockedAgainstAWallNeverBacksIntoIt)
+{
+  // The robot leaves a dock: a corridor 0.8 m wide whose end wall stands 0.17 m behind its back.
+  // Even a start disc taken as free is no trail: nothing behind may be reversed into.
+  const std::vector<Wall> walls = { { -kEdge - 0.17, 0.0, 0.0 }, { 0.0, 0.4, -M_PI / 2 }, { 0.0, -0.4, M_PI / 2 } };
+  for (const double start_free : { 0.0, 0.45 })
+  {
+    WorldParams wp = params();
+    wp.start_free_radius = start_free;
+    wp.clearance = 0.40;
+    WorldModel world(wp);
+    Pose2D robot;
+    double now = 0.0;
+    scan(world, robot, walls, now);  // a look all around (+-3 rad)
+    const MapSummary& s = world.summarize(robot, now);
+    EXPECT_TRUE(world.summarize(robot, now).view_seen) << "the camera sees ahead at the clearance";
+    EXPECT_DOUBLE_EQ(s.reverse_free, 0.0) << "start_free_radius " << start_free;
+    EXPECT_DOUBLE_EQ(s.best_reverse_free, 0.0) << "start_free_radius " << start_free;
+    // 0.3 m down the corridor, the way back is the 0.3 m driven, never more.
+    driveAndLook(world, robot, 0.3, walls, now);
+    const MapSummary& t = world.summarize(robot, now);
+    EXPECT_GE(t.reverse_free, 0.3 - 0.02 - 1e-9) << "start_free_radius " << start_free;
+    EXPECT_LE(t.reverse_free, 0.3 + 1e-9) << "start_free_radius " << start_free;
+  }
+
+  // The decisions at the dock (start_free_radius 0): never a back-off; the way out is a creep down
+  // the corridor, where nothing was ever seen, while the camera sees ahead at the clearance.
+  WorldParams wp = params();
+  wp.clearance = 0.40;
+  WorldModel world(wp);
+  Pose2D robot;
+  double now = 0.0;
+  scan(world, robot, walls, now);
+  DecisionParams dp = mapDecisionParams(0.40, 2);
+  dp.min_goal_distance = 0.005;
+  DecisionMaker decider(dp);
+  FrameSummary cloud;
+  cloud.coverage = 1.0;
+  cloud.free_distance = 0.8;  // the box measured free to its depth
+  bool crept = false;
+  double t = 100.0;
+  for (int i = 0; i < 200; ++i, t += 0.1)
+  {
+    cloud.stamp = t;
+    decider.onFrame(withMap(cloud, world.summarize(robot, now), 0.06));
+    const Decision& d = decider.step(t, MotionState());
+    if (d.command == Command::DRIVE)
+    {
+      ASSERT_GT(d.distance, 0.0) << "no back-off toward the end wall: " << d.text;
+      EXPECT_EQ(d.reason, Reason::CREEPING) << d.text;
+      EXPECT_LE(d.speed, dp.creep_speed + 1e-12);
+      crept = true;
+    }
+  }
+  EXPECT_TRUE(crept);
 }
 
 TEST(WorldModel, BumpIsMarkedInFront)
@@ -365,6 +434,203 @@ TEST(MapDecisions, SpeedObeysTheStoppingFormula)
     const double bound = std::sqrt(2.0 * dp.deceleration * (free - dp.safety_margin));
     EXPECT_LE(d.speed, bound + 1e-9) << "free " << free;
     EXPECT_NEAR(d.speed, std::min(dp.max_speed, bound), 1e-9) << "free " << free;
+  }
+}
+
+TEST(MapDecisions, CreepFollowsItsFormula)
+{
+  // Known free too short for a goal: with a map, creep_speed > 0, the view ahead at the margin
+  // known (view_seen) and the open travel beyond the margin plus min_goal_distance, a goal of
+  // (open - margin) at v = min(creep_speed, sqrt(2 a (open - margin)), ramp); else UNKNOWN_AHEAD.
+  DecisionParams dp = mapDecisionParams(0.4, 0);
+  dp.min_goal_distance = 0.005;
+  DecisionMaker decider(dp);
+  for (const double open : { 0.403, 0.41, 0.45, 0.6, 1.2 })
+  {
+    for (const bool view_seen : { false, true })
+    {
+      decider.reset();
+      FrameSummary f;
+      f.stamp = 1.0;
+      f.from_map = true;
+      f.free_distance = 0.2;
+      f.open_distance = open;
+      f.view_seen = view_seen;
+      decider.onFrame(f);
+      const Decision& d = decider.step(1.0, MotionState());
+      const bool creep = view_seen && open - 0.4 >= 0.005;
+      if (!creep)
+      {
+        EXPECT_EQ(d.command, Command::STOP) << open << " " << view_seen << ": " << d.text;
+        EXPECT_EQ(d.reason, Reason::UNKNOWN_AHEAD) << d.text;
+        continue;
+      }
+      ASSERT_EQ(d.command, Command::DRIVE) << open << " " << view_seen << ": " << d.text;
+      EXPECT_EQ(d.reason, Reason::CREEPING);
+      EXPECT_EQ(d.state, State::SLOWING);
+      EXPECT_NEAR(d.distance, open - 0.4, 1e-12);
+      EXPECT_NEAR(d.speed, std::min(dp.creep_speed, std::sqrt(2.0 * dp.deceleration * (open - 0.4))), 1e-12);
+    }
+  }
+  // creep_speed 0 switches it off; without a map nothing is known to be never seen.
+  DecisionParams off = dp;
+  off.creep_speed = 0.0;
+  for (const bool from_map : { true, false })
+  {
+    DecisionMaker d2(from_map ? off : dp);
+    FrameSummary f;
+    f.stamp = 1.0;
+    f.from_map = from_map;
+    f.coverage = 1.0;
+    f.free_distance = 0.2;
+    f.open_distance = 1.2;
+    f.view_seen = true;
+    d2.onFrame(f);
+    EXPECT_EQ(d2.step(1.0, MotionState()).reason, Reason::UNKNOWN_AHEAD) << "from_map " << from_map;
+  }
+}
+
+TEST(MapDecisions, ACreepGivesWayToAFullGoalAndStopsForWhatItSees)
+{
+  DecisionParams dp = mapDecisionParams(0.4, 0);
+  dp.min_goal_distance = 0.005;
+  DecisionMaker decider(dp);
+  FrameSummary f;
+  f.from_map = true;
+  f.free_distance = 0.2;
+  f.open_distance = 1.2;
+  f.view_seen = true;
+  double t = 1.0;
+  const auto step = [&](const MotionState& m) -> const Decision&
+  {
+    f.stamp = t;
+    decider.onFrame(f);
+    const Decision& d = decider.step(t, m);
+    t += 0.1;
+    return d;
+  };
+  ASSERT_EQ(step(MotionState()).reason, Reason::CREEPING);
+  MotionState creeping;
+  creeping.goal_active = true;
+  creeping.goal_remaining = 0.75;
+  creeping.goal_speed = dp.creep_speed;
+  const Decision& going = step(creeping);
+  EXPECT_EQ(going.command, Command::NONE) << going.text;
+  EXPECT_EQ(going.reason, Reason::CREEPING);
+  // The map now knows the path free: a full goal replaces the creep.
+  f.free_distance = 1.2;
+  const Decision& full = step(creeping);
+  ASSERT_EQ(full.command, Command::DRIVE) << full.text;
+  EXPECT_NE(full.reason, Reason::CREEPING);
+  EXPECT_GT(full.speed, dp.creep_speed);
+
+  // Creeping again; a lit (suspect) cell appears 0.42 m ahead: a shorter creep, then a stop.
+  decider.reset();
+  f.free_distance = 0.2;
+  ASSERT_EQ(step(MotionState()).reason, Reason::CREEPING);
+  f.open_distance = 0.42;
+  const Decision& shorter = step(creeping);
+  ASSERT_EQ(shorter.command, Command::DRIVE) << shorter.text;
+  EXPECT_EQ(shorter.reason, Reason::CREEPING);
+  EXPECT_NEAR(shorter.distance, 0.02, 1e-12);
+  creeping.goal_remaining = 0.02;
+  f.open_distance = 0.403;
+  const Decision& stop = step(creeping);
+  EXPECT_EQ(stop.command, Command::STOP) << stop.text;
+  EXPECT_EQ(stop.reason, Reason::UNKNOWN_AHEAD);
+  // The camera no longer sees ahead at the margin (something near shadows it): the creep stops.
+  decider.reset();
+  f.open_distance = 1.2;
+  ASSERT_EQ(step(MotionState()).reason, Reason::CREEPING);
+  f.view_seen = false;
+  creeping.goal_remaining = 0.75;
+  EXPECT_EQ(step(creeping).command, Command::STOP);
+}
+
+TEST(MapDecisions, AWayFoundWhileSettlingIsTakenOnlyWhenUnknownSpaceBlocked)
+{
+  // The first cloud comes before its rays are in the map: unknown ahead, the turn cycle starts. A
+  // cloud taken while the robot settles shows the creep: it goes, without a turn.
+  DecisionParams dp = mapDecisionParams(0.4, 12);
+  dp.settle_time = 0.3;
+  dp.min_goal_distance = 0.005;
+  DecisionMaker decider(dp);
+  FrameSummary f;
+  f.from_map = true;
+  f.stamp = 1.0;
+  f.free_distance = 0.0;
+  decider.onFrame(f);
+  EXPECT_EQ(decider.step(1.0, MotionState()).reason, Reason::UNKNOWN_AHEAD);
+  f.view_seen = true;
+  f.open_distance = 1.2;
+  decider.onFrame(f);  // the same cloud, its rays now in the map: not taken after the cycle began
+  EXPECT_EQ(decider.step(1.01, MotionState()).command, Command::STOP);
+  f.stamp = 1.1;
+  decider.onFrame(f);
+  const Decision& d = decider.step(1.1, MotionState());
+  EXPECT_EQ(d.command, Command::DRIVE) << d.text;
+  EXPECT_EQ(d.reason, Reason::CREEPING);
+  // Blocked by an obstacle, the cycle settles and turns whatever the next cloud says.
+  decider.reset();
+  FrameSummary o;
+  o.from_map = true;
+  o.stamp = 1.0;
+  o.nearest_obstacle = 0.401;
+  o.free_distance = 0.401;
+  decider.onFrame(o);
+  EXPECT_EQ(decider.step(1.0, MotionState()).reason, Reason::OBSTACLE);
+  o.stamp = 1.1;
+  o.nearest_obstacle = kInf;
+  o.free_distance = 1.2;
+  decider.onFrame(o);
+  EXPECT_EQ(decider.step(1.1, MotionState()).command, Command::STOP);
+  o.stamp = 1.35;
+  decider.onFrame(o);
+  EXPECT_EQ(decider.step(1.35, MotionState()).command, Command::TURN);
+}
+
+TEST(MapDecisions, NeverSeenSpaceAheadIsLookedAtOnBothSides)
+{
+  // Unknown ahead: the turn cycle turns one step to one side, then two steps back (the other side of
+  // the first heading), even with a heading open on the first side (the way it came), and then
+  // toward that heading. Blocked by an obstacle it turns toward it at once.
+  for (const bool obstacle : { false, true })
+  {
+    DecisionParams dp = mapDecisionParams(0.4, 12);
+    dp.min_goal_distance = 0.005;
+    dp.settle_time = 0.1;  // a stop between the turns
+    DecisionMaker decider(dp);
+    FrameSummary f;
+    f.from_map = true;
+    f.free_distance = f.open_distance = 0.3;
+    f.nearest_obstacle = obstacle ? 0.3 : kInf;
+    f.best_turn = 2.0;  // far to the left, open: the way back
+    f.best_turn_free = 1.0;
+    std::vector<double> turns;  // signed duration of each turn, s
+    bool turning = false;
+    for (double t = 1.0; t < 12.0 && turns.size() < 5; t += 0.05)
+    {
+      f.stamp = t;
+      decider.onFrame(f);
+      const Decision& d = decider.step(t, MotionState());
+      if (d.command == Command::TURN)
+      {
+        if (!turning)
+        {
+          turns.push_back(0.0);
+        }
+        turns.back() += (d.angular_speed > 0.0 ? 0.05 : -0.05);
+      }
+      turning = d.command == Command::TURN;
+    }
+    ASSERT_GE(turns.size(), 4U);
+    const double step = dp.turn_angle / dp.turn_speed;
+    const std::vector<double> expected =
+        obstacle ? std::vector<double>{ step, step, step, step } : std::vector<double>{ step, -2 * step, step, step };
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      EXPECT_NEAR(turns[k], expected[k], 0.06) << "turn " << k << (obstacle ? " (obstacle)" : " (unknown)");
+    }
   }
 }
 

@@ -33,6 +33,11 @@ struct DecisionParams
   int max_backoffs = 3;              ///< back-offs along the trail before giving up (map only; 0: none)
   double backoff_distance = 0.3;     ///< longest back-off (m)
   double backoff_speed = 0.08;       ///< back-off speed (m/s)
+  /// Forward speed (m/s, in [0, 0.05]) of a goal over cells never seen to hold anything (map only), while
+  /// the camera sees straight ahead at safety_margin (FrameSummary::view_seen): the
+  /// ring around the body the camera cannot see. 0: never; then such space is refused like any
+  /// unknown space.
+  double creep_speed = 0.05;
 
   /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
   void validate() const;
@@ -73,7 +78,8 @@ enum class Reason : std::uint8_t
   EXTENDING = 17,
   GOAL_RUNNING = 18,
   BACKING_OFF = 19,
-  NO_ODOMETRY = 20
+  NO_ODOMETRY = 20,
+  CREEPING = 26  ///< a goal at creep_speed over cells never seen (the safety filter's reasons are 21..25)
 };
 
 /// What the robot is told (values equal the ObstacleStatus COMMAND_* constants).
@@ -117,6 +123,13 @@ struct FrameSummary
   double best_turn_free = 0.0;     ///< that travel (m)
   double best_reverse_turn = 0.0;  ///< relative heading whose reverse path is free the farthest (rad)
   double best_reverse_free = 0.0;  ///< that reverse travel (m)
+  /// Travel through free cells and cells never seen to hold anything (m; from a map: the swept path
+  /// up to the first occupied cell or cell holding evidence, or the nearest obstacle; else
+  /// free_distance). Creeping goals (creep_speed) may use it.
+  double open_distance = 0.0;
+  /// From a map: the centre line straight ahead is known (free or occupied) from safety_margin to two
+  /// cells beyond it (the camera sees there). Creeping needs it.
+  bool view_seen = false;
 };
 
 /// Extracts the summary of @p result, captured at @p stamp.
@@ -210,6 +223,7 @@ private:
     double distance = 0.0;
     double speed = 0.0;
     Reason reason = Reason::PATH_FREE;
+    bool creep = false;  // a DRIVE over cells never seen (creep_speed)
   };
 
   Assessment assess(const FrameSummary& f) const;
@@ -220,11 +234,12 @@ private:
   void setText(const char* format, ...) __attribute__((format(printf, 2, 3)));
   void drive(const Assessment& a, const FrameSummary& f);
   void startCycle(double now, Reason reason, const char* why);
-  void startTurn(double now);
+  void startTurn(double now, int steps = 1);
   void stepCycle(double now, const MotionState& motion);
   bool startBackoff(double now);
   bool stepBackoff(double now, const MotionState& motion);
   void stepRunningGoal(double now, const MotionState& motion);
+  void stepCreep(double now, const MotionState& motion);
   void stepIdle(double now, const MotionState& motion);
   void decide(double now, const MotionState& motion);
   void stopHere(double now);
@@ -249,7 +264,9 @@ private:
   int turn_dir_ = 1;  // +1 left, -1 right
   int backoffs_done_ = 0;
   bool backoff_sent_ = false;
+  bool creeping_ = false;  // the running goal is a creep goal
   Reason cycle_reason_ = Reason::OBSTACLE;
+  Reason start_reason_ = Reason::OBSTACLE;  // why the turn cycle began
   std::string cycle_text_;
 };
 }  // namespace sl_obstacle

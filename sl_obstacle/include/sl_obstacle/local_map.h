@@ -71,14 +71,27 @@ enum class CellState : std::uint8_t
   Occupied  ///< some slice above occupied_threshold
 };
 
+/// What the map holds for one cell, as the path checks read it.
+struct CellInfo
+{
+  CellState state = CellState::Unknown;  ///< see CellState
+  /// Some slice holds positive log-odds: occupied or suspect evidence, also decayed below
+  /// occupied_threshold. An unknown cell without it was never seen, or seen free only in part (a
+  /// slice no ray crossed): nothing was ever found there.
+  bool evidence = false;
+  /// The robot's own disc covered the cell during this run (markTrail()).
+  bool trail = false;
+};
+
 /// Rolling 2.5D occupancy grid in odom (x, y in metres, z up), centred on the robot.
 ///
 /// The window is a square of N x N cells (N = round(size / resolution)) on the global lattice of
 /// cells [i * resolution, (i + 1) * resolution); each cell holds `slices` log-odds values for equal
 /// height slices of [z_min, z_max] and the time of its last update. The window is a ring buffer:
 /// recenter() moves it by whole cells without copying, forgetting the cells that leave. All memory
-/// is allocated by the constructor (9 bytes per slice and 13 per cell: 1.2 MB for the defaults'
-/// 200 x 200 x 2); nothing grows with run time.
+/// is allocated by the constructor (9 bytes per slice and 14 per cell: 1.3 MB for the defaults'
+/// 200 x 200 x 2); nothing grows with run time. Besides the log-odds each cell holds a trail bit: the
+/// robot's disc covered it (markTrail()); it is forgotten only with the cell (clear(), recenter()).
 ///
 /// Updates of one insert() call are combined per slice (each slice changes at most once per cloud):
 /// occupied wins over free, free wins over suspect. A cell decays (exp(-dt / decay)) lazily, when it
@@ -123,12 +136,21 @@ public:
   /// occupied (log-odds +clamp): a bump. Non-finite input or a negative radius is ignored.
   void markOccupiedDisc(double x, double y, double radius, double stamp);
 
+  /// Sets the trail bit of the cells whose centre lies within @p radius of the segment from (x0, y0)
+  /// to (x1, y1): the robot's disc moved along it. The log-odds are not changed. Non-finite input or
+  /// a negative radius is ignored.
+  void markTrail(double x0, double y0, double x1, double y1, double radius);
+
   /// State at @p now of the cell holding (x, y); Unknown outside the window or for NaN.
   CellState state(double x, double y, double now) const;
 
   /// State at @p now of the cell with global lattice index (ix, iy) (the cell
   /// [ix * resolution, (ix + 1) * resolution) x [...]); Unknown outside the window.
   CellState cellState(int ix, int iy, double now) const;
+
+  /// State, evidence and trail bit at @p now of the cell with global lattice index (ix, iy); outside
+  /// the window: Unknown, no evidence, not on the trail.
+  CellInfo cellInfo(int ix, int iy, double now) const;
 
   /// The window as a nav_msgs/OccupancyGrid-style array, row-major from the window's origin
   /// (lower left corner, x fastest): -1 unknown, 0 free, 100 occupied, 50 for an unknown cell with
@@ -206,9 +228,10 @@ private:
   int oy_ = 0;
   int ring_x_ = 0;  // its ring-buffer slot: ox_ mod N, oy_ mod N
   int ring_y_ = 0;
-  std::vector<float> logodds_;   // slot * slices + slice
-  std::vector<double> updated_;  // per slot: time of the last update (-inf: never)
-  std::vector<Extent> extent_;   // per slot: box around its hits while it holds positive evidence
+  std::vector<float> logodds_;       // slot * slices + slice
+  std::vector<double> updated_;      // per slot: time of the last update (-inf: never)
+  std::vector<Extent> extent_;       // per slot: box around its hits while it holds positive evidence
+  std::vector<std::uint8_t> trail_;  // per slot: 1 where the robot's disc has been (markTrail())
   // Batch bookkeeping (per voxel = slot * slices + slice); flags_ is all zero between batches.
   std::vector<std::uint8_t> flags_;
   std::vector<std::uint32_t> touched_;  // voxels flagged in the current batch (sized for all)

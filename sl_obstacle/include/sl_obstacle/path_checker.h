@@ -2,6 +2,7 @@
 /// @brief Swept-footprint checks of a disc robot on the LocalMap (doc/world_model.md, section 3).
 #pragma once
 
+#include <algorithm>
 #include <limits>
 
 #include "sl_obstacle/local_map.h"
@@ -39,11 +40,24 @@ struct PathResult
   double obstacle = std::numeric_limits<double>::infinity();
   /// Entry distance of the first Unknown cell (m); +inf if none within max_distance.
   double unknown = std::numeric_limits<double>::infinity();
+  /// Entry distance of the first Unknown cell that holds evidence (CellInfo::evidence: a suspect, or
+  /// an obstacle decayed below occupied) (m); +inf if none. Unknown cells before it were never seen
+  /// to hold anything.
+  double evidence = std::numeric_limits<double>::infinity();
+  /// Entry distance of the first cell not on the robot's trail (CellInfo::trail) (m); +inf if none.
+  double off_trail = std::numeric_limits<double>::infinity();
+  /// Entry distance of the first unknown cell without evidence whose centre lies farther than the
+  /// sweep's blind_radius from its start (m); +inf if none (always, with blind_radius +inf).
+  double unseen_far = std::numeric_limits<double>::infinity();
   /// Share of the cells swept over (0, max_distance] that are known (free or occupied); 1 when no
   /// cell is swept (max_distance 0).
   double known_fraction = 1.0;
   /// Number of cells swept over (0, max_distance].
   int swept_cells = 0;
+
+  /// Travel until the first cell that is occupied, holds evidence or was never seen beyond
+  /// blind_radius (m): the cells before it are free or never seen within blind_radius.
+  double open() const { return std::min({ obstacle, evidence, unseen_far }); }
 };
 
 /// Sweeps the footprint along a straight line and reports free, obstacle and unknown distances.
@@ -56,10 +70,20 @@ struct PathResult
 /// @param direction  +1 forward along yaw, -1 in reverse
 /// @param max_distance how far to look (m, >= 0)
 /// @param now        time of the map's clock (s), for the decay
+/// @param blind_radius never-seen cells farther than this from (x, y) count in PathResult::unseen_far
 /// @throws std::invalid_argument for direction other than +-1, a non-finite pose or a negative or
 ///         non-finite max_distance
 PathResult sweepStraight(const LocalMap& map, const FootprintParams& fp, double x, double y, double yaw, int direction,
-                         double max_distance, double now);
+                         double max_distance, double now,
+                         double blind_radius = std::numeric_limits<double>::infinity());
+
+/// True when the cells under the centre line straight ahead, from @p from to @p to beyond the front
+/// edge (@p radius ahead of (x, y) along @p yaw), sampled every quarter cell, are Free up to the end
+/// or up to an Occupied one (its shadow behind it is not asked for): the camera sees there, the
+/// floor or an obstacle (the creep rule's view check, doc/world_model.md, section 3). An object
+/// near the robot that the camera cannot see shadows it.
+bool centreLineSeen(const LocalMap& map, double x, double y, double yaw, double radius, double from, double to,
+                    double now);
 
 /// Result of bestHeading().
 struct HeadingChoice

@@ -1,6 +1,7 @@
 /// @file safety_filter.h
 /// @brief Limits a velocity command (teleoperation or any planner) to what stops before obstacles
-/// and unknown space on its arc: v <= sqrt(2 a d) (doc/world_model.md, section 4). ROS-free.
+/// and unknown space on its arc: v <= sqrt(2 a d), creeping through the ring the camera cannot see,
+/// reversing only along the trail (doc/world_model.md, section 4). ROS-free.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,9 @@ struct FilterParams
   double horizon = 1.5;        ///< m, the longest arc checked (check_distance)
   double input_timeout = 0.5;  ///< s without a command before the robot stops
   double stale_timeout = 0.5;  ///< s without a fresh cloud before forward motion stops
+  /// m/s, in [0, 0.05]: the forward speed allowed over cells never seen to hold anything, while the
+  /// camera sees straight ahead at the clearance (0: never)
+  double creep_speed = 0.05;
 
   /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
   void validate() const;
@@ -47,6 +51,7 @@ enum class FilterReason : std::uint8_t
 {
   PASSED,            ///< the command is safe as it is (or it only turns in place)
   LIMITED,           ///< forward or reverse speed scaled down to stop within the known-free arc
+  CREEPING,          ///< forward speed held to creep_speed: the arc crosses cells never seen
   STOPPED_OBSTACLE,  ///< no travel left on the arc (obstacle or unknown space within clearance)
   INPUT_TIMEOUT,     ///< no command within input_timeout (or none yet)
   STALE_DATA,        ///< no fresh cloud: forward motion stopped (turning and reverse still pass)
@@ -61,8 +66,10 @@ const char* toString(FilterReason reason);
 struct ArcResult
 {
   double free = 0.0;  ///< m: first cell that is not free (or the length checked)
-  double obstacle = std::numeric_limits<double>::infinity();  ///< m: first occupied cell
-  double unknown = std::numeric_limits<double>::infinity();   ///< m: first unknown cell
+  double obstacle = std::numeric_limits<double>::infinity();   ///< m: first occupied cell
+  double unknown = std::numeric_limits<double>::infinity();    ///< m: first unknown cell
+  double evidence = std::numeric_limits<double>::infinity();   ///< m: first unknown cell holding evidence
+  double off_trail = std::numeric_limits<double>::infinity();  ///< m: first cell off the robot's trail
 };
 
 /**
@@ -105,7 +112,8 @@ struct FilterOutput
   Velocity command;  ///< what to send to the driver
   FilterReason reason = FilterReason::INPUT_TIMEOUT;
   double scale = 0.0;        ///< |output linear| / |requested linear| (1 when nothing moves forward)
-  double travel = 0.0;       ///< m: known-free travel on the output's arc less the clearance
+  double travel = 0.0;       ///< m: travel on the output's arc less the clearance (creeping: open travel;
+                             ///< reverse: trail travel less the lateral margin)
   double speed_limit = 0.0;  ///< m/s: sqrt(2 a travel) (inf with a = 0 and travel > 0)
   double curvature = 0.0;    ///< rad/m of the output's arc (0 for a straight line or no motion)
   std::string text;          ///< a sentence with the numbers
@@ -114,12 +122,21 @@ struct FilterOutput
 /**
  * @brief The safety filter: for each command, the swept footprint along its arc is checked on the
  * local map (and against the newest cloud's obstacle points, whose distances are exact) and the
- * speed is limited to v <= sqrt(2 a d), d the known-free travel less the clearance.
+ * speed is limited (doc/world_model.md, section 4):
+ *
+ *   forward: |v| <= max(sqrt(2 a d_known), C min(creep_speed, sqrt(2 a d_open)))
+ *   reverse: |v| <= sqrt(2 a d_trail)
+ *
+ * d_known: travel to the first cell that is not free, or to contact with a cloud point, less the
+ * clearance; d_open: the same, except that unknown cells without evidence (never seen to hold
+ * anything: the ring the camera cannot see) pass; C = 1 when the map knows the centre line straight
+ * ahead from the clearance to two cells beyond it (centreLineSeen(): free or occupied, the camera
+ * sees where an obstacle would stop the robot), else 0; d_trail: travel until the disc (radius, no margin) covers a
+ * cell off its trail or the swept disc a cell that is not free, less the lateral margin.
  *
  * Turning in place sweeps nothing new and always passes (unless stopped for timeout, bad input or
- * missing odometry). Reverse motion is checked on the map only (the camera looks ahead): the robot's
- * trail is free. A limited command keeps its turn rate: the speed is lowered until the tighter arc
- * it then drives is safe too, down to turning in place, so turning away from an obstacle stays
+ * missing odometry). A limited command keeps its turn rate: the speed is lowered until the tighter
+ * arc it then drives is safe too, down to turning in place, so turning away from an obstacle stays
  * possible.
  */
 class SafetyFilter
@@ -134,13 +151,26 @@ public:
   /// Filters one command on @p map (in the frame of FilterInput::pose).
   FilterOutput filter(const LocalMap& map, const FilterInput& in) const;
 
-  /// Known-free travel (m, less the clearance; may be negative) on the arc of (v, w) from the
-  /// input's pose, checked up to @p length.
+  /// Travel on the arc of (v, w) from the input's pose, checked up to @p length (m; may be
+  /// negative): forward d_known, reverse d_trail (see the class comment).
   double travel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const;
 
+  /// Forward travel through cells never seen to hold anything, d_open (see the class comment), of
+  /// the arc of (v > 0, w), checked up to @p length (m; may be negative).
+  double openTravel(const LocalMap& map, const FilterInput& in, double v, double w, double length) const;
+
 private:
-  /// The largest speed <= |v| (same sign) that stops within the travel of its own arc with w.
-  double limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out) const;
+  /// d_known (or d_trail) and d_open of one arc.
+  struct Travels
+  {
+    double known = 0.0;
+    double open = 0.0;
+  };
+  Travels travels(const LocalMap& map, const FilterInput& in, double v, double w, double length) const;
+  /// The largest speed <= |v| (same sign) that stops within the travel of its own arc with w; sets
+  /// @p creeping when only the creep rule allows it.
+  double limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out,
+                    bool& creeping) const;
 
   FilterParams params_;
 };

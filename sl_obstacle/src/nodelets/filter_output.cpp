@@ -22,6 +22,10 @@ void stateOf(const FilterOutput& out, std::uint8_t& state, std::uint8_t& reason)
       state = S::SLOWING;
       reason = S::REASON_LIMITED;
       return;
+    case FilterReason::CREEPING:
+      state = S::SLOWING;
+      reason = S::REASON_CREEPING;
+      return;
     case FilterReason::STOPPED_OBSTACLE:
       state = S::BLOCKED;
       reason = S::REASON_STOPPED_OBSTACLE;

@@ -275,6 +275,10 @@ void ObstacleNodelet::onReconfigure(ObstacleConfig& config, uint32_t /*level*/)
     map_stamp_ = ros::Time();  // the new map holds no image yet
     NODELET_WARN("map parameters changed: the local map starts empty");
   }
+  else if (world_)
+  {
+    world_->setClearance(settings.world.clearance);
+  }
   if (filter_)
   {
     filter_ = std::make_unique<SafetyFilter>(settings.filter);

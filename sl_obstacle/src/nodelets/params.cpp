@@ -89,6 +89,7 @@ Settings toSettings(const ObstacleConfig& c)
   d.max_backoffs = c.max_backoffs;
   d.backoff_distance = c.backoff_distance;
   d.backoff_speed = c.backoff_speed;
+  d.creep_speed = c.creep_speed;
   WorldParams& w = s.world;
   w.enabled = c.use_map;
   w.map.size = c.map_size;
@@ -102,6 +103,8 @@ Settings toSettings(const ObstacleConfig& c)
   w.start_free_radius = c.start_free_radius;
   w.check_distance = c.check_distance;
   w.heading_step = c.turn_angle;
+  w.clearance = c.safety_margin;
+  w.blind_radius = c.blind_radius;
   w.headings = c.headings;
   FilterParams& f = s.filter;
   f.footprint = w.footprint;
@@ -110,6 +113,7 @@ Settings toSettings(const ObstacleConfig& c)
   f.horizon = c.check_distance;
   f.input_timeout = c.input_timeout;
   f.stale_timeout = c.stale_timeout;
+  f.creep_speed = c.creep_speed;
   s.teleop_hold = c.teleop_hold;
   return s;
 }
@@ -117,9 +121,10 @@ Settings toSettings(const ObstacleConfig& c)
 bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b)
 {
   return a.map_size != b.map_size || a.map_resolution != b.map_resolution || a.map_slices != b.map_slices ||
-         a.map_decay != b.map_decay || a.start_free_radius != b.start_free_radius || a.robot_radius != b.robot_radius ||
-         a.lateral_margin != b.lateral_margin || a.check_distance != b.check_distance || a.headings != b.headings ||
-         a.turn_angle != b.turn_angle || a.floor_margin != b.floor_margin || a.height != b.height;
+         a.map_decay != b.map_decay || a.start_free_radius != b.start_free_radius || a.blind_radius != b.blind_radius ||
+         a.robot_radius != b.robot_radius || a.lateral_margin != b.lateral_margin ||
+         a.check_distance != b.check_distance || a.headings != b.headings || a.turn_angle != b.turn_angle ||
+         a.floor_margin != b.floor_margin || a.height != b.height;
 }
 
 void validateConfig(const ObstacleConfig& config)

@@ -60,21 +60,44 @@ double NavGrid::age(std::size_t i, double now) const
   return std::isnan(base_time_) ? 0.0 : (now - base_time_) - static_cast<double>(seen_[i]);
 }
 
+namespace
+{
+/// floor(v) as an int, clamped to [-2^30, 2^30] (NaN: the lower end): never an undefined cast.
+int safeFloor(double v)
+{
+  constexpr double kLimit = 1073741824.0;
+  return v >= -kLimit ? (v <= kLimit ? static_cast<int>(std::floor(v)) : static_cast<int>(kLimit))
+                      : -static_cast<int>(kLimit);
+}
+}  // namespace
+
+bool validLayout(const OccupancyView& v)
+{
+  // Cells of 5 mm .. 1 m and at most 4000 per side: the per-cell loops stay bounded.
+  return v.data != nullptr && v.width > 0 && v.height > 0 && v.width <= 4000 && v.height <= 4000 &&
+         std::isfinite(v.resolution) && v.resolution >= 0.005 && v.resolution <= 1.0 && std::isfinite(v.origin_x) &&
+         std::isfinite(v.origin_y) && std::abs(v.origin_x) < 1e6 && std::abs(v.origin_y) < 1e6;
+}
+
 int NavGrid::indexX(double x) const
 {
-  return static_cast<int>(std::floor((x - origin_x_) / params_.resolution));
+  return safeFloor((x - origin_x_) / params_.resolution);
 }
 
 int NavGrid::indexY(double y) const
 {
-  return static_cast<int>(std::floor((y - origin_y_) / params_.resolution));
+  return safeFloor((y - origin_y_) / params_.resolution);
 }
 
 bool NavGrid::contains(double x, double y) const
 {
+  if (!std::isfinite(x) || !std::isfinite(y))
+  {
+    return false;
+  }
   const int ix = indexX(x);
   const int iy = indexY(y);
-  return std::isfinite(x) && std::isfinite(y) && ix >= 0 && iy >= 0 && ix < n_ && iy < n_;
+  return ix >= 0 && iy >= 0 && ix < n_ && iy < n_;
 }
 
 Cell NavGrid::cell(int ix, int iy, double now) const
@@ -104,10 +127,7 @@ Cell NavGrid::at(double x, double y, double now) const
 
 bool NavGrid::fuse(const OccupancyView& v, double stamp)
 {
-  const bool layout_ok = v.data != nullptr && v.width > 0 && v.height > 0 && v.width <= 100000 &&
-                         v.height <= 100000 && std::isfinite(v.resolution) && v.resolution > 0.0 &&
-                         std::isfinite(v.origin_x) && std::isfinite(v.origin_y) && std::isfinite(stamp);
-  if (!layout_ok)
+  if (!validLayout(v) || !std::isfinite(stamp))
   {
     return false;
   }
@@ -156,9 +176,11 @@ bool NavGrid::fuse(const OccupancyView& v, double stamp)
   const double per_cell = std::pow(params_.resolution / v.resolution, 2.0);
   const int min_free = std::max(1, static_cast<int>(std::ceil(0.5 * per_cell - 1e-9)));
   const float t_rel = rel(stamp);
+  bool changed = false;
   for (std::uint32_t i : touched_)
   {
     Tally& t = tally_[i];
+    const Cell before = state_[i];
     if (t.occupied > 0)
     {
       state_[i] = Cell::Occupied;
@@ -173,9 +195,10 @@ bool NavGrid::fuse(const OccupancyView& v, double stamp)
       state_[i] = Cell::Free;
       seen_[i] = t_rel;
     }
+    changed |= state_[i] != before;
     t = Tally();
   }
-  ++version_;
+  version_ += changed ? 1 : 0;
   return true;
 }
 
@@ -196,7 +219,8 @@ void NavGrid::markDisc(double x, double y, double radius, double stamp, Cell sta
     return;
   }
   const float t_rel = rel(stamp);
-  const int r = static_cast<int>(std::ceil(radius / params_.resolution)) + 1;
+  const int r = static_cast<int>(std::ceil(std::min(radius, params_.size) / params_.resolution)) + 1;
+  bool changed = false;
   const int cx = indexX(x);
   const int cy = indexY(y);
   for (int iy = std::max(0, cy - r); iy <= std::min(n_ - 1, cy + r); ++iy)
@@ -205,12 +229,13 @@ void NavGrid::markDisc(double x, double y, double radius, double stamp, Cell sta
     {
       if (std::hypot(centerX(ix) - x, centerY(iy) - y) <= radius)
       {
+        changed |= state_[index(ix, iy)] != state;
         state_[index(ix, iy)] = state;
         seen_[index(ix, iy)] = t_rel;
       }
     }
   }
-  ++version_;
+  version_ += changed ? 1 : 0;
 }
 
 void NavGrid::snapshot(double now, std::vector<Cell>& out) const

@@ -20,6 +20,7 @@ void NavigatorParams::validate() const
   detail::requireRange("switch_gain", switch_gain, 0.0, 10.0);
   detail::requireRange("stuck_time", stuck_time, 0.5, 60.0);
   detail::requireRange("look_around", look_around, 0.0, M_PI);
+  detail::requireRange("map_timeout", map_timeout, 0.1, 60.0);
 }
 
 const char* toString(NavState state)
@@ -60,10 +61,11 @@ Navigator::Navigator(const NavigatorParams& params)
 
 bool Navigator::onMap(const OccupancyView& view, double stamp)
 {
-  if (!window_.set(view))
+  if (!std::isfinite(stamp) || !window_.set(view))
   {
     return false;
   }
+  map_time_ = stamp;
   if (!has_map_)
   {
     grid_.reset(view.origin_x + 0.5 * view.width * view.resolution, view.origin_y + 0.5 * view.height * view.resolution);
@@ -119,6 +121,27 @@ void Navigator::cancel(double /*now*/, const std::string& why)
   {
     end(NavState::CANCELLED, why);
   }
+}
+
+void Navigator::refuse(const std::string& why)
+{
+  end(NavState::ABORTED, why);
+}
+
+bool Navigator::noPose(double now, const std::string& why)
+{
+  if (out_.state != NavState::ACTIVE)
+  {
+    const bool stop = stop_pending_;
+    stop_pending_ = false;
+    return stop;
+  }
+  if (now - progress_time_ > params_.progress_timeout)
+  {
+    end(NavState::ABORTED, "goal aborted: " + why + " for longer than progress_timeout");
+    stop_pending_ = false;
+  }
+  return true;
 }
 
 void Navigator::end(NavState state, const std::string& reason)
@@ -193,13 +216,26 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
     stop_pending_ = false;
     return out_;
   }
-  track(pose, now);
   out_.command = true;
   out_.linear = 0.0;
   out_.angular = 0.0;
-  if (!has_map_)
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.yaw))
   {
-    out_.reason = "waiting for the local map";
+    out_.reason = "stopped: the robot's pose is not finite";
+    return out_;
+  }
+  track(pose, now);
+  if (!has_map_ || now - map_time_ > params_.map_timeout)
+  {
+    char text[160];
+    std::snprintf(text, sizeof(text), "stopped: %s (map_timeout %.1f s)",
+                  has_map_ ? "the local map is stale" : "waiting for the local map", params_.map_timeout);
+    out_.reason = text;
+    if (now - progress_time_ > params_.progress_timeout)
+    {
+      end(NavState::ABORTED, std::string("goal aborted: ") + text + " for longer than progress_timeout");
+      stop_pending_ = false;
+    }
     return out_;
   }
   const bool stale_plan = plan_.points.empty() || plan_.status != PlanStatus::OK ||
@@ -316,7 +352,16 @@ bool Navigator::lookAround(const Pose& pose, double now)
   look_step_ = -1;
   still_pose_ = pose;
   still_since_ = now;
-  replan(pose, now, true);
+  if (!replan(pose, now, true))
+  {
+    out_.linear = 0.0;
+    out_.angular = 0.0;
+    if (out_.state == NavState::ACTIVE)
+    {
+      out_.reason = "looked around; no plan yet: " + plan_.text;
+    }
+    return true;  // a stop this step (an ended goal also owes one)
+  }
   return false;
 }
 }  // namespace sl_navigation

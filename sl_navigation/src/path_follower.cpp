@@ -65,10 +65,7 @@ void FollowerParams::validate() const
 
 bool ExecWindow::set(const OccupancyView& v)
 {
-  const bool ok = v.data != nullptr && v.width > 0 && v.height > 0 && v.width <= 100000 && v.height <= 100000 &&
-                  std::isfinite(v.resolution) && v.resolution > 0.0 && std::isfinite(v.origin_x) &&
-                  std::isfinite(v.origin_y);
-  if (!ok)
+  if (!validLayout(v))
   {
     return false;
   }

@@ -240,7 +240,7 @@ bool Planner::insideObject(int gix, int giy) const
         break;
       }
       const std::size_t i = index(x, y);
-      if (factor_[i] == kOccupied)
+      if (cells_[i] == Cell::Occupied)
       {
         closed = true;
         break;
@@ -262,14 +262,15 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
 {
   Plan out;
   char text[200];
-  if (!grid.contains(sx, sy))
+  const auto on_border = [this](int ix, int iy) { return ix <= 0 || iy <= 0 || ix >= n_ - 1 || iy >= n_ - 1; };
+  if (!grid.contains(sx, sy) || on_border(grid.indexX(sx), grid.indexY(sy)))
   {
     out.status = PlanStatus::START_OUTSIDE;
     std::snprintf(text, sizeof(text), "start (%.2f, %.2f) lies outside the map", sx, sy);
     out.text = text;
     return out;
   }
-  if (!grid.contains(gx, gy))
+  if (!grid.contains(gx, gy) || on_border(grid.indexX(gx), grid.indexY(gy)))
   {
     out.status = PlanStatus::GOAL_OUTSIDE;
     std::snprintf(text, sizeof(text), "goal (%.2f, %.2f) lies outside the map (%.1f m around (%.2f, %.2f))", gx, gy,

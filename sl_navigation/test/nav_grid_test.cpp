@@ -132,6 +132,13 @@ TEST(NavGrid, RefusesBadWindows)
   v.resolution = -0.02;
   EXPECT_FALSE(g.fuse(v, 1.0));
   EXPECT_FALSE(g.fuse(w.view, std::nan("")));
+  v = w.view;
+  v.resolution = 0.0002;  // a window this fine would take minutes per step
+  EXPECT_FALSE(g.fuse(v, 1.0));
+  v = w.view;
+  v.origin_x = 1e300;
+  EXPECT_FALSE(g.fuse(v, 1.0));
+  EXPECT_FALSE(g.contains(1e300, 0.0));
   EXPECT_EQ(g.at(0.5, 0.5, 1.0), Cell::Unknown);
 }
 

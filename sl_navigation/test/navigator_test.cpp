@@ -113,7 +113,7 @@ TEST(Navigator, ReachesAGoalThroughADoorWithoutTouchingAnything)
     EXPECT_EQ(r.state, NavState::SUCCEEDED) << r.reason;
     EXPECT_LE(std::hypot(r.pose.x - goal.x, r.pose.y - goal.y), nav.params().follower.goal_tolerance + 0.02);
     EXPECT_GT(r.min_clearance, 0.0);
-    EXPECT_GT(r.travelled / r.moving_time, 0.16);  // measured 0.25..0.27 (no safety filter in this loop)
+    EXPECT_GT(r.travelled / r.moving_time, 0.2);  // measured 0.25..0.27 (no safety filter in this loop)
   }
 }
 
@@ -125,7 +125,7 @@ TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
   start.x = 0.8;
   start.y = -2.0;
   ASSERT_TRUE(nav.setGoal(NavGoal{ 1.9, -1.2, 0.0, false }, 100.0).empty());  // the middle of the box
-  const LoopRun r = drive(nav, world, start, 65.0);
+  const LoopRun r = drive(nav, world, start, 90.0);
   std::printf("goal inside the box: %s after %.1f s: %s\n", toString(r.state), r.time, r.reason.c_str());
   EXPECT_EQ(r.state, NavState::ABORTED);
   const bool why = r.reason.find("inside an object") != std::string::npos ||
@@ -144,10 +144,11 @@ TEST(Navigator, AbortsAGoalBehindAClosedWallWithinTheBound)
   world.box(1.4, -1.5, 1.5, 1.5);
   Navigator nav(params());
   ASSERT_TRUE(nav.setGoal(NavGoal{ 3.0, 0.0, 0.0, false }, 100.0).empty());
-  const LoopRun r = drive(nav, world, Pose(), 60.0);
+  const LoopRun r = drive(nav, world, Pose(), 90.0);
   std::printf("goal behind a closed wall: %s after %.1f s: %s\n", toString(r.state), r.time, r.reason.c_str());
   EXPECT_EQ(r.state, NavState::ABORTED);
-  EXPECT_LE(r.time, 2.0 * nav.params().progress_timeout);  // progress_timeout after its closest approach
+  EXPECT_NE(r.reason.find("enclosed"), std::string::npos) << r.reason;
+  EXPECT_LE(r.time, 2.0 * nav.params().progress_timeout);  // measured 27 s: once its walls are seen
   EXPECT_GT(r.min_clearance, 0.0);
 }
 
@@ -172,6 +173,41 @@ TEST(Navigator, RefusesBadGoalsAtOnceAndSendsOneStop)
   EXPECT_TRUE(out.command);  // one stop for the refused goal
   EXPECT_EQ(out.linear, 0.0);
   EXPECT_FALSE(nav.step(Pose(), 1.2).command);  // then silence
+}
+
+TEST(Navigator, StopsOnAStaleMapOrABadPoseAndRefusesWhatTheCallerCannotTake)
+{
+  Navigator nav(params());
+  std::vector<std::int8_t> data(200 * 200, 0);
+  OccupancyView v;
+  v.data = data.data();
+  v.width = v.height = 200;
+  v.resolution = 0.02;
+  v.origin_x = v.origin_y = -2.0;
+  ASSERT_TRUE(nav.onMap(v, 1.0));
+  ASSERT_TRUE(nav.setGoal(NavGoal{ 1.5, 0.0, 0.0, false }, 1.0).empty());
+  EXPECT_GT(nav.step(Pose(), 1.1).linear, 0.0);
+  const NavOutput& stale = nav.step(Pose(), 1.0 + nav.params().map_timeout + 0.1);
+  EXPECT_EQ(stale.state, NavState::ACTIVE);
+  EXPECT_TRUE(stale.command);
+  EXPECT_EQ(stale.linear, 0.0);
+  EXPECT_NE(stale.reason.find("stale"), std::string::npos) << stale.reason;
+  ASSERT_TRUE(nav.onMap(v, 4.0));
+  Pose bad;
+  bad.yaw = std::nan("");
+  const NavOutput& nan_pose = nav.step(bad, 4.1);
+  EXPECT_TRUE(nan_pose.command);
+  EXPECT_EQ(nan_pose.linear, 0.0);
+  EXPECT_EQ(nan_pose.angular, 0.0);
+  EXPECT_TRUE(nav.noPose(4.2, "no odometry"));  // a stop while it waits
+  EXPECT_EQ(nav.state(), NavState::ACTIVE);
+  EXPECT_TRUE(nav.noPose(4.2 + nav.params().progress_timeout + 1.0, "no odometry"));
+  EXPECT_EQ(nav.state(), NavState::ABORTED);
+  nav.refuse("goal refused: no transform");
+  EXPECT_EQ(nav.state(), NavState::ABORTED);
+  const NavOutput& stop = nav.step(Pose(), 40.0);
+  EXPECT_TRUE(stop.command);
+  EXPECT_EQ(stop.reason, "goal refused: no transform");
 }
 
 TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops)

@@ -185,6 +185,18 @@ TEST(Planner, OutsideTheMapIsRefusedByName)
   EXPECT_EQ(planner.plan(m.grid(), -30.0, 0.0, 0.0, 0.0).status, PlanStatus::START_OUTSIDE);
 }
 
+TEST(Planner, TheMapsBorderRingIsOutsideForStartAndGoal)
+{
+  Map m;  // 10 x 10 m: cells of the outermost ring have centres within 0.05 m of +-5
+  Planner planner(PlannerParams(), m.grid().width());
+  planner.update(m.grid(), 0.0);
+  EXPECT_EQ(planner.plan(m.grid(), 0.0, -4.99, 1.0, 0.0).status, PlanStatus::START_OUTSIDE);
+  EXPECT_EQ(planner.plan(m.grid(), 0.0, 4.99, 1.0, 0.0).status, PlanStatus::START_OUTSIDE);
+  EXPECT_EQ(planner.plan(m.grid(), 0.0, 0.0, 4.99, 4.99).status, PlanStatus::GOAL_OUTSIDE);
+  EXPECT_EQ(planner.plan(m.grid(), 0.0, 0.0, 1e300, 0.0).status, PlanStatus::GOAL_OUTSIDE);
+  EXPECT_EQ(planner.plan(m.grid(), 0.0, 0.0, 4.5, 4.5).status, PlanStatus::OK);
+}
+
 TEST(Planner, ValidationNamesTheParameter)
 {
   PlannerParams p;

@@ -41,6 +41,9 @@ struct OccupancyView
   double origin_y = 0.0;              ///< m, y of the lower left corner (odom)
 };
 
+/// True when @p view is usable: data, 1..4000 cells per side, cells of 0.005..1 m, finite origin.
+bool validLayout(const OccupancyView& view);
+
 /**
  * @brief Persistent occupancy grid of fixed size in odom.
  *
@@ -49,8 +52,8 @@ struct OccupancyView
  * seen are free and they cover at least half of it, and unknown when it held free or occupied and the
  * window now shows something in between (a suspect) there. A cell the window does not know keeps its
  * state: what was seen free stays free for free_persistence, an obstacle for occupied_persistence
- * (then the cell is unknown again). Memory: 5 bytes per cell, fixed at construction (0.8 MB for
- * 20 x 20 m at 0.05 m).
+ * (then the cell is unknown again). Memory: 11 bytes per cell, fixed at construction (1.8 MB for
+ * 20 x 20 m at 0.05 m; the Planner adds about 40 bytes per cell).
  */
 class NavGrid
 {
@@ -91,7 +94,7 @@ public:
   double originY() const { return origin_y_; }
   /// The parameters.
   const GridParams& params() const { return params_; }
-  /// Number of fuse() calls that changed the map (a version for caches).
+  /// Changes whenever a cell's state changes (a version for caches).
   std::uint64_t version() const { return version_; }
   /// Every cell's state at @p now, row-major from the lower left corner (resized to width()^2).
   void snapshot(double now, std::vector<Cell>& out) const;

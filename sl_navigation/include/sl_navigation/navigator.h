@@ -26,6 +26,7 @@ struct NavigatorParams
   double switch_gain = 0.15;       ///< a new plan replaces a still passable one only when this much cheaper (share)
   double stuck_time = 3.0;         ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
   double look_around = 0.6;        ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
+  double map_timeout = 2.0;        ///< s without a local map before the robot stops (map_timeout)
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -97,6 +98,12 @@ public:
   std::string setGoal(const NavGoal& goal, double now);
   /// Cancels the running goal (the state becomes CANCELLED; the next step sends a stop).
   void cancel(double now, const std::string& why);
+  /// Refuses a goal the caller could not take (e.g. no transform): the state becomes ABORTED with
+  /// @p why, any running goal ends, the next step sends a stop.
+  void refuse(const std::string& why);
+  /// The caller cannot give a pose at @p now (no odometry): a running goal waits, stopped, and is
+  /// aborted after progress_timeout; @return true when a stop is to be sent.
+  bool noPose(double now, const std::string& why);
   /// One control step from @p pose (base_link in odom) at @p now; @p speed_cap: see PathFollower::step().
   const NavOutput& step(const Pose& pose, double now, double speed_cap = std::numeric_limits<double>::infinity());
 
@@ -125,6 +132,7 @@ private:
   PathFollower follower_;
   ExecWindow window_;
   bool has_map_ = false;
+  double map_time_ = -std::numeric_limits<double>::infinity();  // stamp of the newest local window
   NavGoal goal_;
   Plan plan_;
   NavOutput out_;

@@ -25,12 +25,12 @@ struct Pose
 struct FollowerParams
 {
   double max_speed = 0.3;           ///< m/s (max_speed); the Create drives up to 0.5
-  double min_speed = 0.05;          ///< m/s: creep speed where the known-free travel ends within the clearance
+  double min_speed = 0.05;          ///< m/s asked for at least while the path is not blocked (the filter decides)
   double max_angular = 1.2;         ///< rad/s while driving (max_angular_speed)
   double turn_speed = 0.9;          ///< rad/s, the fastest turn in place (turn_speed)
   double acceleration = 0.4;        ///< m/s^2, how fast the command's speed rises (acceleration)
   double deceleration = 0.25;       ///< m/s^2, the a of v <= sqrt(2 a d) (the safety filter's)
-  double clearance = 0.4;           ///< m kept to obstacles and unknown space along the path (the safety filter's)
+  double clearance = 0.4;           ///< m kept to occupied cells along the path (the safety filter's safety_margin)
   double swept_radius = 0.1875;     ///< m, robot radius + lateral margin (the safety filter's)
   double lookahead = 0.35;          ///< m, pure-pursuit look-ahead along the path
   double rotate_threshold = 0.8;    ///< rad: heading errors above this are turned in place first

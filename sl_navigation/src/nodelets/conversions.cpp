@@ -13,7 +13,7 @@ bool toView(const nav_msgs::OccupancyGrid& msg, OccupancyView& view)
   view.resolution = msg.info.resolution;
   view.origin_x = msg.info.origin.position.x;
   view.origin_y = msg.info.origin.position.y;
-  return msg.data.size() == static_cast<std::size_t>(msg.info.width) * msg.info.height;
+  return msg.data.size() == static_cast<std::size_t>(msg.info.width) * msg.info.height && validLayout(view);
 }
 
 nav_msgs::Path toPath(const std::vector<Point>& points, const std::string& frame, const ros::Time& stamp)

@@ -92,6 +92,8 @@ void NavigationNodelet::onInit()
   action_->registerGoalCallback([this] { onActionGoal(); });
   action_->registerPreemptCallback([this] { onActionPreempt(); });
   action_->start();
+  // getNodeHandle(): this nodelet's callbacks (timer, subscriptions, actionlib) run one at a time;
+  // mutex_ guards against actionlib's own threads, which take their lock before ours.
   timer_ = nh.createTimer(ros::Duration(1.0 / params_.control_rate), &NavigationNodelet::onTimer, this);
   NODELET_INFO("navigation: map %.0f x %.0f m at %.2f m in %s, max_speed %.2f m/s, goal_tolerance %.2f m",
                params_.navigator.grid.size, params_.navigator.grid.size, params_.navigator.grid.resolution,
@@ -141,7 +143,7 @@ bool NavigationNodelet::startGoal(const geometry_msgs::PoseStamped& goal, std::s
   {
     why = "goal refused: cannot transform it from frame '" + goal.header.frame_id + "' to '" + params_.odom_frame +
           "': " + e.what();
-    nav_->cancel(ros::Time::now().toSec(), why);
+    nav_->refuse(why);
     return false;
   }
   NavGoal g;
@@ -233,10 +235,21 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
   std::string why;
   if (!lookupPose(pose, why))
   {
-    if (nav_->state() == NavState::ACTIVE)
+    const bool active = nav_->state() == NavState::ACTIVE;
+    if (nav_->noPose(now.toSec(), why))
     {
       publishCommand(0.0, 0.0, now);  // keep the filter fed with a stop while the pose is missing
+    }
+    if (active)
+    {
       NODELET_WARN_THROTTLE(2.0, "%s: stopped", why.c_str());
+    }
+    if (action_goal_ && nav_->state() != NavState::ACTIVE)
+    {
+      NavOutput ended;
+      ended.state = nav_->state();
+      ended.reason = why;
+      finishAction(ended);
     }
     return;
   }

@@ -63,6 +63,7 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "switch_gain", n.switch_gain);
   get(pnh, "stuck_time", n.stuck_time);
   get(pnh, "look_around", n.look_around);
+  get(pnh, "map_timeout", n.map_timeout);
   try
   {
     n.validate();

@@ -25,6 +25,8 @@ const char* stopReasonName(StopReason reason)
       return "disconnected";
     case StopReason::INVALID_GOAL:
       return "invalid goal";
+    case StopReason::HEARTBEAT_LOST:
+      return "heartbeat lost";
   }
   return "unknown";
 }

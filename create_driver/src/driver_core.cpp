@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace create_driver
@@ -34,8 +35,8 @@ void validateConfig(const DriverConfig& c)
     throw std::invalid_argument("max_wheel_speed must be in (0, 0.5] m/s");
   if (!(l.wheel_base > 0.05 && l.wheel_base < 1.0))
     throw std::invalid_argument("wheel_base must be in (0.05, 1) m");
-  if (!positive(c.cmd_vel_timeout))
-    throw std::invalid_argument("cmd_vel_timeout must be > 0");
+  if (!positive(c.command_timeout) || c.command_timeout > kMaxCommandTimeout)
+    throw std::invalid_argument("command_timeout must be in (0, 0.3] s");
   if (!positive(c.command_refresh))
     throw std::invalid_argument("command_refresh must be > 0");
   const DriveDistanceParams& d = c.drive_distance;
@@ -105,6 +106,9 @@ void DriverCore::onConnected(double now, Bytes& out)
   have_sent_ = false;
   reported_mode_ = -1;
   last_control_ = now;
+  // First a stop: a robot whose OI still runs (Safe or Full, e.g. the previous driver process was
+  // killed while it drove) obeys it at once; in Off or Passive it is ignored.
+  appendMotion(0.0, 0.0, out);
   appendStart(out);
   start_phase_ = 1;
   start_time_ = now;
@@ -253,7 +257,16 @@ bool DriverCore::runStartSequence(double now, Bytes& out)
 
 bool DriverCore::commandedVelocity(double now, bool& emergency, double& v, double& w)
 {
-  if (dd_.active())
+  if (dd_.active() && now - goal_refresh_ > config_.command_timeout)
+  {
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(2) << "no heartbeat for " << now - goal_refresh_ << " s (command_timeout "
+        << config_.command_timeout << " s): the goal's sender is frozen or gone";
+    finishGoal(StopReason::HEARTBEAT_LOST, msg.str());
+    ++stats_.heartbeat_stops;
+    watchdogStop("drive_distance goal aborted: " + msg.str(), emergency);
+  }
+  else if (dd_.active())
   {
     const DriveDistanceController::Output o = dd_.update(odometry_.distance(), odometry_.yawContinuous(), now);
     if (o.finished)
@@ -274,11 +287,18 @@ bool DriverCore::commandedVelocity(double now, bool& emergency, double& v, doubl
   }
   else if (cmd_active_)
   {
-    if (now - cmd_time_ > config_.cmd_vel_timeout)
+    if (now - cmd_time_ > config_.command_timeout && cmd_linear_ == 0.0 && cmd_angular_ == 0.0)
+    {
+      cmd_active_ = false;  // the sender stopped the robot and went quiet: nothing to stop
+    }
+    else if (now - cmd_time_ > config_.command_timeout)
     {
       cmd_active_ = false;
       ++stats_.watchdog_stops;
-      emergency = true;
+      std::ostringstream msg;
+      msg << std::fixed << std::setprecision(2) << "no cmd_vel for " << now - cmd_time_ << " s (command_timeout "
+          << config_.command_timeout << " s): the sender is frozen or gone";
+      watchdogStop(msg.str(), emergency);
     }
     else
     {
@@ -301,8 +321,10 @@ void DriverCore::limitVelocity(double dt, bool emergency, double& v, double& w)
     v = 0.0;
     w = 0.0;
   }
-  if (emergency)
+  if (emergency || (v == 0.0 && w == 0.0))
   {
+    // A stop is executed at once: the ramps shape starts and changes of speed, never a stop (a
+    // frozen camera's stop, a released teleop key).
     limiter_.reset();
     v = 0.0;
     w = 0.0;
@@ -383,6 +405,7 @@ bool DriverCore::setVelocity(double linear, double angular, double now, std::str
       *error = "cmd_vel contains NaN or infinite values; ignored";
     return false;
   }
+  commandSeen(now);
   if (dd_.active())
   {
     // A zero twist (idle teleop, or a "stop turning" sent just before a goal) leaves the goal
@@ -438,6 +461,8 @@ GoalStart DriverCore::startGoal(double distance, double speed, double now, Bytes
   if (!dd_.start(distance, speed, odometry_.distance(), odometry_.yawContinuous(), now, &error))
     return reject(StopReason::INVALID_GOAL, error);
   goal_id_ = r.id;
+  goal_refresh_ = now;
+  commandSeen(now);
   r.accepted = true;
   r.reason = StopReason::REACHED;
   if (config_.use_wait_distance && distance != 0.0)
@@ -456,6 +481,26 @@ GoalStart DriverCore::startGoal(double distance, double speed, double now, Bytes
     finishGoal(StopReason::REACHED, "zero distance");
   }
   return r;
+}
+
+void DriverCore::heartbeat(double now)
+{
+  if (!dd_.active())
+    return;  // the sender's goal has ended: nothing to keep alive
+  goal_refresh_ = now;
+  commandSeen(now);
+}
+
+void DriverCore::commandSeen(double now)
+{
+  last_command_time_ = now;
+  source_lost_.clear();
+}
+
+void DriverCore::watchdogStop(const std::string& why, bool& emergency)
+{
+  source_lost_ = why;
+  emergency = true;
 }
 
 void DriverCore::cancelGoal(uint64_t id, StopReason reason, const std::string& message)

@@ -58,6 +58,8 @@ void SimRobot::powerCycle()
 void SimRobot::receive(const uint8_t* data, size_t len)
 {
   bytes_received_ += len;
+  if (len > 0)
+    last_input_time_ = time_;
   const size_t room = params_.max_input_queue > input_.size() ? params_.max_input_queue - input_.size() : 0;
   const size_t take = std::min(room, len);
   input_.insert(input_.end(), data, data + take);
@@ -506,6 +508,7 @@ void SimRobot::step(double dt)
     time_ += h;
     integrate(h);
     safetyCheck();
+    hostWatchdog();
     if (wait_ != WaitKind::NONE)
     {
       if (wait_ == WaitKind::TIME)
@@ -613,6 +616,16 @@ void SimRobot::safetyCheck()
     const bool in_place = std::fabs(v) <= 1e-6 && std::fabs(w) > 1e-9;
     if (forward || tight_backward || in_place)
       setMode(OiMode::PASSIVE);
+  }
+}
+
+void SimRobot::hostWatchdog()
+{
+  if (params_.command_watchdog > 0.0 && time_ - last_input_time_ > params_.command_watchdog &&
+      (left_cmd_ != 0.0 || right_cmd_ != 0.0))
+  {
+    stopWheels();
+    ++watchdog_stops_;
   }
 }
 

@@ -34,6 +34,13 @@ TEST(CmdVelWatchdog, DrivesThenWatchdogStops)
   double stops = 0;
   ASSERT_TRUE(sys.diag("Control loop", "watchdog stops", &stops));
   EXPECT_GE(stops, 1.0);
+  EXPECT_TRUE(waitUntil(
+      [&]
+      {
+        double n = 0;
+        return diagValue(sys.diagnostics.get(), "Commands", "cmd_vel watchdog stops", &n) && n >= 1.0;
+      }))
+      << "the watchdog stop is not in the diagnostics";
 
   // At rest, odometry matches the true displacement (no slip or noise configured).
   ASSERT_TRUE(odom.waitMore(5));

@@ -81,6 +81,29 @@ TEST_F(DriveDistance, CancelStopsWheels)
   EXPECT_TRUE(sys.waitWheelsStopped(10.0)) << "wheels not stopped after cancel";
 }
 
+TEST_F(DriveDistance, HeartbeatLossStopsAndAborts)
+{
+  const double x0 = restingX(sys);
+  client.sendGoal(goal(2.0, 0.2));
+  ASSERT_TRUE(waitUntil([&] { return sys.pose.get().pose.position.x > x0 + 0.05; })) << "goal did not start";
+  sys.heartbeat.pause(true);  // the client freezes
+  const double x_frozen = sys.pose.get().pose.position.x;
+  ASSERT_TRUE(client.waitForResult(ros::Duration(kTimeout)));
+  sys.heartbeat.pause(false);
+  EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::ABORTED);
+  EXPECT_EQ(client.getResult()->reason, DriveDistanceResult::HEARTBEAT_LOST) << client.getResult()->message;
+  const double x1 = restingX(sys);
+  ROS_INFO("heartbeat stopped at 0.2 m/s: %.3f m after (command_timeout 0.25 s)", x1 - x_frozen);
+  EXPECT_LT(x1 - x_frozen, 0.2 * 0.3 + 0.03) << "driven on without a heartbeat";
+  EXPECT_TRUE(waitUntil(
+      [&]
+      {
+        double stops = 0;
+        return diagValue(sys.diagnostics.get(), "Commands", "heartbeat stops", &stops) && stops >= 1.0;
+      }))
+      << "the heartbeat stop is not in the diagnostics";
+}
+
 TEST_F(DriveDistance, NewGoalReplacesOld)
 {
   Client second("drive_distance", true);

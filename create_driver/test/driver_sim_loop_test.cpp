@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sl_testing/errors.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <functional>
@@ -42,6 +43,11 @@ public:
   void step()
   {
     t += dt;
+    if (heartbeat_period > 0.0 && t >= next_heartbeat_)
+    {
+      drv.heartbeat(t);  // a running goal's sender is alive
+      next_heartbeat_ = t + heartbeat_period;
+    }
     // Deliver bytes whose latency has elapsed.
     while (!to_robot_.empty() && to_robot_.front().first <= t)
     {
@@ -124,12 +130,14 @@ public:
   double latency = 0.01;
   int corrupt_every = 0;
   bool drop_to_robot = false;
+  double heartbeat_period = 0.1;  // s between heartbeats of the goal's sender; 0: it is silent
   std::vector<cd::GoalOutcome> outcomes;
 
 private:
   std::deque<std::pair<double, Bytes>> to_robot_;
   std::deque<std::pair<double, Bytes>> to_host_;
   int chunks_ = 0;
+  double next_heartbeat_ = 0.0;
 };
 
 cd::DriverConfig create2Config()
@@ -191,8 +199,13 @@ TEST(DriverSimLoop, ConfigValidationNamesTheParameter)
   c.model = cd::Model::CREATE_2;
   EXPECT_EQ(refusal(c).rfind("use_wait_distance", 0), 0u) << refusal(c);
   c = cd::DriverConfig();
-  c.cmd_vel_timeout = -1;
-  EXPECT_EQ(refusal(c).rfind("cmd_vel_timeout", 0), 0u) << refusal(c);
+  c.command_timeout = -1;
+  EXPECT_EQ(refusal(c).rfind("command_timeout", 0), 0u) << refusal(c);
+  c = cd::DriverConfig();
+  c.command_timeout = 0.31;
+  EXPECT_EQ(refusal(c).rfind("command_timeout", 0), 0u) << refusal(c);
+  c.command_timeout = cd::kMaxCommandTimeout;
+  EXPECT_EQ(refusal(c), "");
   c = cd::DriverConfig();
   c.limits.wheel_base = 0.05;  // the bound the nodelet once checked apart, (0.05, 1) m
   EXPECT_EQ(refusal(c).rfind("wheel_base", 0), 0u) << refusal(c);
@@ -240,12 +253,32 @@ TEST(DriverSimLoop, CmdVelDrivesAndWatchdogStops)
   }
   EXPECT_NEAR(l.sim.commandedLeft(), 0.2, 1e-3);
   EXPECT_GT(l.sim.truePose().x - x0, 0.1);
-  // No more commands: the watchdog (0.5 s) stops the wheels.
+  // No more commands: the watchdog stops the wheels command_timeout after the last one.
+  const double last_command = l.t - 0.1;
+  EXPECT_TRUE(l.drv.commandSourceLost().empty());
   ASSERT_TRUE(l.runUntil([&] { return l.sim.commandedLeft() == 0.0; }, 2.0));
+  EXPECT_LE(l.t - last_command, l.drv.config().command_timeout + 0.011 + 2 * l.latency);
   EXPECT_EQ(l.drv.stats().watchdog_stops, 1u);
+  EXPECT_EQ(l.drv.commandSourceLost().rfind("no cmd_vel for", 0), 0u) << l.drv.commandSourceLost();
   // At rest, odometry agrees with the true motion (no slip, no noise; 1 mm resolution).
   l.run(0.2);
   EXPECT_NEAR(l.drv.odometry().pose().x, l.sim.truePose().x - x0, 0.002);
+}
+
+TEST(DriverSimLoop, QuietAfterAStopIsNoWatchdogStop)
+{
+  Loop l;
+  ASSERT_TRUE(l.startUp());
+  for (int i = 0; i < 5; ++i)
+  {
+    l.drv.setVelocity(0.2, 0.0, l.t, nullptr);
+    l.run(0.1);
+  }
+  l.drv.setVelocity(0.0, 0.0, l.t, nullptr);  // the sender stops the robot, then falls silent
+  l.run(1.0);
+  EXPECT_EQ(l.sim.commandedLeft(), 0.0);
+  EXPECT_EQ(l.drv.stats().watchdog_stops, 0u);
+  EXPECT_TRUE(l.drv.commandSourceLost().empty()) << l.drv.commandSourceLost();
 }
 
 TEST(DriverSimLoop, AccelerationIsLimited)
@@ -258,11 +291,70 @@ TEST(DriverSimLoop, AccelerationIsLimited)
   l.run(0.2);
   EXPECT_GT(l.sim.commandedLeft(), 0.0);
   EXPECT_LE(l.sim.commandedLeft(), 0.5 * 0.2 + 0.011);
-  l.drv.setVelocity(0.4, 0.0, l.t, nullptr);
-  l.run(0.4);
-  l.drv.setVelocity(0.4, 0.0, l.t, nullptr);
-  l.run(0.3);
+  for (int i = 0; i < 7; ++i)
+  {
+    l.drv.setVelocity(0.4, 0.0, l.t, nullptr);
+    l.run(0.1);
+  }
   EXPECT_NEAR(l.sim.commandedLeft(), 0.4, 1e-3);
+}
+
+TEST(DriverSimLoop, GoalWithoutHeartbeatStopsAndAborts)
+{
+  Loop l;
+  ASSERT_TRUE(l.startUp());
+  ASSERT_TRUE(l.startGoal(2.0, 0.3));
+  l.run(1.0);  // heartbeats every 0.1 s: the goal runs
+  ASSERT_TRUE(l.outcomes.empty());
+  EXPECT_NEAR(l.sim.commandedLeft(), 0.3, 0.01);
+  EXPECT_TRUE(l.drv.commandSourceLost().empty());
+
+  l.heartbeat_period = 0.0;  // the sender freezes
+  const double frozen = l.t;
+  const double x0 = l.sim.truePose().x;
+  ASSERT_TRUE(l.runUntil([&] { return !l.outcomes.empty(); }, 1.0));
+  EXPECT_EQ(l.outcomes[0].reason, cd::StopReason::HEARTBEAT_LOST);
+  EXPECT_NE(l.outcomes[0].message.find("no heartbeat"), std::string::npos) << l.outcomes[0].message;
+  // The last heartbeat came up to 0.1 s before the freeze.
+  EXPECT_LE(l.t - frozen, l.drv.config().command_timeout + 0.011);
+  ASSERT_TRUE(l.runUntil([&] { return l.sim.commandedLeft() == 0.0; }, 0.1));
+  l.run(0.5);
+  EXPECT_EQ(l.sim.commandedLeft(), 0.0);
+  const double after = l.sim.truePose().x - x0;
+  // 0.3 m/s for at most command_timeout plus the line's latency both ways.
+  EXPECT_LE(after, 0.3 * (l.drv.config().command_timeout + 0.011 + 2 * l.latency) + 0.001);
+  EXPECT_EQ(l.drv.stats().heartbeat_stops, 1u);
+  EXPECT_EQ(l.drv.commandSourceLost().rfind("drive_distance goal aborted", 0), 0u) << l.drv.commandSourceLost();
+  // A heartbeat without a goal keeps nothing alive; a command shows the source alive again.
+  l.drv.heartbeat(l.t);
+  EXPECT_FALSE(l.drv.commandSourceLost().empty());
+  l.drv.setVelocity(0.0, 0.0, l.t, nullptr);
+  EXPECT_TRUE(l.drv.commandSourceLost().empty());
+}
+
+TEST(DriverSimLoop, ConnectStopsBeforeStart)
+{
+  // A driver process that dies while the robot drives leaves the robot in Safe mode executing its
+  // last command; the next process's first bytes are a stop, before Start.
+  Loop l;
+  ASSERT_TRUE(l.startUp());
+  for (int i = 0; i < 3; ++i)
+  {
+    l.drv.setVelocity(0.3, 0.0, l.t, nullptr);
+    l.run(0.1);
+  }
+  ASSERT_GT(l.sim.commandedLeft(), 0.2);
+  cd::DriverCore next{ cd::DriverConfig() };
+  Bytes out;
+  next.onConnected(l.t, out);
+  const Bytes stop = cd::encodeDriveDirect(0, 0);
+  ASSERT_GE(out.size(), stop.size() + 1);
+  EXPECT_TRUE(std::equal(stop.begin(), stop.end(), out.begin()));
+  EXPECT_EQ(out[stop.size()], cd::oi::START);
+  // Obeyed in Safe mode as such (without the Start behind it).
+  l.sim.receive(stop.data(), stop.size());
+  EXPECT_EQ(l.sim.commandedLeft(), 0.0);
+  EXPECT_EQ(l.sim.mode(), cd::OiMode::SAFE);
 }
 
 TEST(DriverSimLoop, NonFiniteCommandsRejected)
@@ -558,7 +650,7 @@ TEST(DriverSimLoop, GarbageIsCountedAndSurvived)
 TEST(DriverSimLoop, ReconnectStopsRobot)
 {
   cd::DriverConfig c;
-  c.cmd_vel_timeout = 100.0;
+  c.command_timeout = 100.0;  // beyond the parameter's range: only the reconnect may stop the robot
   Loop l(c);
   ASSERT_TRUE(l.startUp());
   l.drv.setVelocity(0.2, 0.0, l.t, nullptr);

@@ -29,7 +29,8 @@ TEST(Reconnect, ReopenedPtyReconnectsAndStops)
   const uint32_t connects0 = sys.mode.get().connects;
   const uint32_t opens0 = sys.status.get().pty_opens;
 
-  // One command; the watchdog is set very long in the launch file, so the robot keeps driving.
+  // One command: the robot drives until the command watchdog (command_timeout) or the reconnect
+  // stops it (the reconnect's own stop, before the watchdog's time: driver_sim_loop_test).
   ASSERT_TRUE(sys.driveUntil(0.1, 0.0, [&] { return sys.wheels() > 0.05; }));
 
   std_srvs::Trigger reopen;

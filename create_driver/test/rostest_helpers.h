@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <mutex>
@@ -15,6 +16,7 @@
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
 #include <sl_msgs/Hazards.h>
+#include <std_msgs/Empty.h>
 #include <sl_testing/wait.h>
 
 namespace test_helpers
@@ -75,12 +77,40 @@ private:
   std::function<void(const M&)> hook_;
 };
 
+/// @brief The heartbeat of a drive_distance client: std_msgs/Empty on drive_distance/heartbeat every
+/// 0.1 s while not paused (the driver aborts a goal whose heartbeat stops for command_timeout).
+class Heartbeat
+{
+public:
+  explicit Heartbeat(ros::NodeHandle& nh) : pub_(nh.advertise<std_msgs::Empty>("drive_distance/heartbeat", 1))
+  {
+    timer_ = nh.createWallTimer(ros::WallDuration(0.1),
+                                [this](const ros::WallTimerEvent&)
+                                {
+                                  if (!paused_)
+                                    pub_.publish(std_msgs::Empty());
+                                });
+  }
+  // No callback runs once the timer has stopped (stop() waits for one in progress).
+  ~Heartbeat() { timer_.stop(); }
+  Heartbeat(const Heartbeat&) = delete;
+  Heartbeat& operator=(const Heartbeat&) = delete;
+  /// Stops (true) or resumes (false) the heartbeat: a frozen client.
+  void pause(bool paused) { paused_ = paused; }
+
+private:
+  ros::Publisher pub_;
+  ros::WallTimer timer_;
+  std::atomic<bool> paused_{ false };
+};
+
 /// @brief Value of @p key in the diagnostic status whose name ends with @p status_suffix.
 /// @return false if not present in @p array
 bool diagValue(const diagnostic_msgs::DiagnosticArray& array, const std::string& status_suffix, const std::string& key,
                double* value);
 
-/// @brief Common fixture state: the driver's mode, the simulator's status and true pose.
+/// @brief Common fixture state: the driver's mode, the simulator's status and true pose, the
+/// heartbeat of the test's goals.
 struct System
 {
   explicit System(ros::NodeHandle& nh)
@@ -88,7 +118,8 @@ struct System
       status(nh, "create_sim/status"),
       pose(nh, "true_pose"),
       hazards(nh, "hazards"),
-      diagnostics(nh, "/diagnostics")
+      diagnostics(nh, "/diagnostics"),
+      heartbeat(nh)
   {
     cmd_pub = nh.advertise<geometry_msgs::Twist>("cmd_vel", 10);
   }
@@ -114,6 +145,7 @@ struct System
   Latest<geometry_msgs::PoseStamped> pose;
   Latest<sl_msgs::Hazards> hazards;
   Latest<diagnostic_msgs::DiagnosticArray> diagnostics;
+  Heartbeat heartbeat;  // for the drive_distance goals the tests send
   ros::Publisher cmd_pub;
 };
 

@@ -133,6 +133,39 @@ TEST(SimRobot, DriveStraightAndDirect)
   EXPECT_NEAR(r.truePose().x, 0.1, 1e-9);
 }
 
+TEST(SimRobot, KeepsDrivingWhenTheHostFallsSilent)
+{
+  // Like the real Create: the last Drive runs until the host says otherwise.
+  cd::SimRobot r = safeRobot();
+  send(r, cd::encodeDrive(300, cd::oi::RADIUS_STRAIGHT));
+  advance(r, 5.0);
+  EXPECT_NEAR(r.truePose().x, 1.5, 1e-6);
+  EXPECT_EQ(r.watchdogStops(), 0u);
+}
+
+TEST(SimRobot, CommandWatchdogStopsASilentHostsRobot)
+{
+  cd::SimParams p;
+  p.command_watchdog = 0.4;
+  cd::SimRobot r = safeRobot(p);
+  send(r, cd::encodeDrive(300, cd::oi::RADIUS_STRAIGHT));
+  for (int i = 0; i < 10; ++i)
+  {
+    advance(r, 0.2);
+    send(r, cd::encodeDrive(300, cd::oi::RADIUS_STRAIGHT));  // a host that refreshes every 0.2 s
+  }
+  EXPECT_NEAR(r.truePose().x, 0.6, 1e-6);
+  EXPECT_EQ(r.watchdogStops(), 0u);
+  advance(r, 2.0);  // silent
+  EXPECT_NEAR(r.truePose().x, 0.6 + 0.3 * 0.4, 0.3 * 0.011);
+  EXPECT_EQ(r.commandedLeft(), 0.0);
+  EXPECT_EQ(r.mode(), cd::OiMode::SAFE);
+  EXPECT_EQ(r.watchdogStops(), 1u);
+  send(r, cd::encodeDrive(100, cd::oi::RADIUS_STRAIGHT));  // the host is back
+  advance(r, 0.1);
+  EXPECT_NEAR(r.commandedLeft(), 0.1, 1e-9);
+}
+
 TEST(SimRobot, SpecialRadiiTurnInPlace)
 {
   cd::SimParams p;

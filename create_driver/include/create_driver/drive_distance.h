@@ -17,7 +17,8 @@ enum class StopReason : uint8_t
   WHEEL_DROP = 4,
   TIMEOUT = 5,
   DISCONNECTED = 6,
-  INVALID_GOAL = 7
+  INVALID_GOAL = 7,
+  HEARTBEAT_LOST = 8  ///< the goal's sender stopped refreshing it for command_timeout
 };
 
 /// @brief Name of a stop reason ("reached", "preempted", ...).

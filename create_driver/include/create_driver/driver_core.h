@@ -1,7 +1,7 @@
 /// @file driver_core.h
 /// @brief The driver without ROS and without I/O: bytes in, bytes out, commands and state.
 ///
-/// DriverCore owns the stream parser, odometry, hazard latch, velocity limiter, cmd_vel watchdog
+/// DriverCore owns the stream parser, odometry, hazard latch, velocity limiter, command watchdog
 /// and the distance controller. The caller feeds it received bytes and a monotonic time, calls
 /// control() periodically, and writes the bytes it appends. The same class runs against the real
 /// serial link (SerialLink), against create_sim over a pty, and against SimRobot in-process in
@@ -35,7 +35,9 @@ struct DriverConfig
   OiMode mode = OiMode::SAFE;  ///< SAFE, FULL, or PASSIVE (sensors only, no motion)
   DriveCommandType drive_type = DriveCommandType::DIRECT;
   VelocityLimits limits;
-  double cmd_vel_timeout = 0.5;  ///< s, watchdog: wheels stop when cmd_vel is older than this
+  /// s, watchdog: the wheels stop when the newest cmd_vel, or a running goal's newest heartbeat,
+  /// is older than this (at most kMaxCommandTimeout)
+  double command_timeout = 0.25;
   double command_refresh = 0.2;  ///< s, an unchanged drive command is re-sent this often
   double start_gap = 0.05;       ///< s between Start and the mode/stream commands
   double start_retry = 1.0;      ///< s, the start sequence is repeated while no frame arrives
@@ -45,6 +47,9 @@ struct DriverConfig
   bool cmd_vel_preempts_goal = true;  ///< a non-zero cmd_vel ends an active goal (else it is ignored)
   Odometry::Params odometry;
 };
+
+/// Longest command_timeout accepted, s: a frozen sender stops the robot within about this.
+constexpr double kMaxCommandTimeout = 0.3;
 
 /// @brief Checks a configuration: the one place where the driver's ranges live.
 /// @throws std::invalid_argument whose message starts with the offending field, named as the
@@ -87,7 +92,8 @@ struct DriverStats
 {
   uint64_t commands_sent = 0;      ///< drive commands written
   uint64_t rejected_commands = 0;  ///< cmd_vel with NaN/inf (or ignored during a goal)
-  uint64_t watchdog_stops = 0;     ///< stops because cmd_vel timed out
+  uint64_t watchdog_stops = 0;     ///< stops because a non-zero cmd_vel timed out
+  uint64_t heartbeat_stops = 0;    ///< goals aborted (and wheels stopped) because the heartbeat stopped
   uint64_t hazard_stops = 0;       ///< stops because the hazard latch was set
   uint64_t mode_reasserts = 0;     ///< mode commands re-sent because the robot left the mode
   uint64_t start_sequences = 0;    ///< start sequences sent
@@ -106,8 +112,9 @@ public:
   /// @brief Configuration in use.
   const DriverConfig& config() const { return config_; }
 
-  /// @brief The port was (re)opened: appends Start; mode, a stop and the Stream request follow
-  /// from control() after config.start_gap. Any previous cmd_vel is forgotten.
+  /// @brief The port was (re)opened: appends a stop (obeyed at once if the robot's OI still runs
+  /// from a previous connection or driver process) and Start; mode, a stop and the Stream request
+  /// follow from control() after config.start_gap. Any previous cmd_vel is forgotten.
   void onConnected(double now, Bytes& out);
   /// @brief The port was closed or lost: the active goal ends with DISCONNECTED.
   void onDisconnected(double now);
@@ -128,9 +135,13 @@ public:
   /// PREEMPTED (or is rejected when config.cmd_vel_preempts_goal is false).
   /// @param error set when rejected
   bool setVelocity(double linear, double angular, double now, std::string* error);
-  /// @brief Starts a distance goal (ending the active one with PREEMPTED).
-  /// May append bytes (the Wait Distance script when that option is on).
+  /// @brief Starts a distance goal (ending the active one with PREEMPTED). The goal runs while
+  /// heartbeat() refreshes it at least every config.command_timeout; else it ends with
+  /// HEARTBEAT_LOST and the wheels stop. May append bytes (the Wait Distance script when that
+  /// option is on).
   GoalStart startGoal(double distance, double speed, double now, Bytes& out);
+  /// @brief The goal's sender is alive: refreshes the active goal's watchdog (ignored without one).
+  void heartbeat(double now);
   /// @brief Ends the goal @p id (if active) with @p reason; the wheels stop at the next control().
   void cancelGoal(uint64_t id, StopReason reason, const std::string& message);
   /// @brief Clears the hazard latch if no hazard is present.
@@ -161,11 +172,21 @@ public:
   int lastRightMmS() const { return last_right_; }
   /// @brief True while a Wait Distance goal holds the robot's command input.
   bool waitDistanceActive() const { return wd_active_; }
+  /// @brief Why the watchdog last stopped the robot, while no command has come since; "" otherwise
+  /// (the command source is then alive or was never needed).
+  const std::string& commandSourceLost() const { return source_lost_; }
+  /// @brief Age of the newest motion command at @p now (cmd_vel, goal or heartbeat), s; negative
+  /// before the first one.
+  double commandAge(double now) const { return last_command_time_ < 0.0 ? -1.0 : now - last_command_time_; }
 
 private:
   void processFrame(const SensorState& state, double stamp);
   void fillLostFrames(double stamp);
   void finishGoal(StopReason reason, const std::string& message);
+  /// A command arrived at @p now: the source is alive.
+  void commandSeen(double now);
+  /// The watchdog stopped the robot: counts it and keeps @p why for commandSourceLost().
+  void watchdogStop(const std::string& why, bool& emergency);
   // The phases of control(), in order.
   /// Start, then mode, a stop and Stream after start_gap; Start again every start_retry while no
   /// frame arrives. False until a frame arrived.
@@ -173,7 +194,8 @@ private:
   /// The velocity asked for by the active goal or cmd_vel (0 if none); ends a goal that finished
   /// and a cmd_vel that timed out (setting @p emergency). False while a Wait Distance script runs.
   bool commandedVelocity(double now, bool& emergency, double& v, double& w);
-  /// Zero when the hazard latch, passive mode or an emergency forbids motion; else the limiter.
+  /// Zero when the hazard latch, passive mode or an emergency forbids motion, or when a stop is
+  /// asked for (no ramp); else the limiter.
   void limitVelocity(double dt, bool emergency, double& v, double& w);
   /// Sends the mode again when the robot left it while it should move.
   void reassertMode(double v, double w, double now, Bytes& out);
@@ -209,6 +231,9 @@ private:
 
   uint64_t next_goal_id_ = 1;
   uint64_t goal_id_ = 0;
+  double goal_refresh_ = 0.0;  // start or newest heartbeat of the active goal
+  double last_command_time_ = -1.0;
+  std::string source_lost_;
   bool wd_active_ = false;
   std::vector<GoalOutcome> outcomes_;
 

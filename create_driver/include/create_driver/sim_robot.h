@@ -30,6 +30,10 @@ struct SimParams
   double max_step = 0.005;        ///< s, longest kinematic integration step
   Pose2D initial_pose;            ///< true pose at start, world frame
   size_t max_input_queue = 4096;  ///< bytes held while a Wait command blocks input; more are dropped
+  /// s; > 0 models a hardware stop outside the Create: the wheels stop when the host sent no byte
+  /// for this long. 0 (default): none, like the real Create, which executes its last Drive until
+  /// told otherwise.
+  double command_watchdog = 0.0;
   double battery_capacity_mah = 3000.0;
   double battery_charge_mah = 2700.0;
 };
@@ -106,6 +110,10 @@ public:
   uint64_t bytesSent() const { return bytes_sent_; }
   /// @brief Stream frames produced.
   uint64_t framesSent() const { return frames_sent_; }
+  /// @brief Parameters in use.
+  const SimParams& params() const { return params_; }
+  /// @brief Times SimParams::command_watchdog stopped the wheels.
+  uint64_t watchdogStops() const { return watchdog_stops_; }
   /// @brief Bytes ignored (unknown opcodes, Off mode, input overflow).
   uint64_t ignoredBytes() const { return ignored_bytes_; }
   /// @brief Complete commands refused (also counted in commands()): a Stream request too large
@@ -154,6 +162,8 @@ private:
   void setWheels(double left, double right);
   void integrate(double dt);
   void safetyCheck();
+  /// SimParams::command_watchdog: stops turning wheels when the host has been silent too long.
+  void hostWatchdog();
   bool waitDone() const;
   bool eventTrue(int event) const;
   void refreshState();
@@ -203,6 +213,8 @@ private:
   uint64_t commands_ = 0, bytes_received_ = 0, bytes_sent_ = 0, frames_sent_ = 0, ignored_bytes_ = 0;
   uint64_t refused_commands_ = 0;
   std::string last_refusal_;
+  double last_input_time_ = 0.0;  // simulated time of the host's newest byte
+  uint64_t watchdog_stops_ = 0;
 };
 
 }  // namespace create_driver

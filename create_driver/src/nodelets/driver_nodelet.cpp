@@ -17,6 +17,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/BatteryState.h>
+#include <std_msgs/Empty.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -44,6 +45,8 @@ static_assert(DriveDistanceResult::WHEEL_DROP == static_cast<uint8_t>(StopReason
 static_assert(DriveDistanceResult::TIMEOUT == static_cast<uint8_t>(StopReason::TIMEOUT), "result constants");
 static_assert(DriveDistanceResult::DISCONNECTED == static_cast<uint8_t>(StopReason::DISCONNECTED), "result constants");
 static_assert(DriveDistanceResult::INVALID_GOAL == static_cast<uint8_t>(StopReason::INVALID_GOAL), "result constants");
+static_assert(DriveDistanceResult::HEARTBEAT_LOST == static_cast<uint8_t>(StopReason::HEARTBEAT_LOST),
+              "result constants");
 
 namespace
 {
@@ -98,6 +101,7 @@ public:
     // so it can charge, and only then stop the worker thread.
     diag_timer_.stop();
     cmd_sub_.shutdown();
+    heartbeat_sub_.shutdown();
     reset_srv_.shutdown();
     Bytes bye;
     {
@@ -142,6 +146,8 @@ private:
       tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
     reset_srv_ = nh.advertiseService("reset_hazard", &DriverNodelet::resetHazard, this);
     cmd_sub_ = nh.subscribe("cmd_vel", 10, &DriverNodelet::cmdVel, this);
+    // In the action's namespace, so that a remap of drive_distance moves it along.
+    heartbeat_sub_ = ros::NodeHandle(nh, "drive_distance").subscribe("heartbeat", 10, &DriverNodelet::heartbeat, this);
 
     server_ = std::make_unique<Server>(
         nh, "drive_distance", [this](GoalHandle gh) { goalCallback(gh); },
@@ -154,6 +160,7 @@ private:
     updater_->add("Sensor stream", this, &DriverNodelet::diagStream);
     updater_->add("Control loop", this, &DriverNodelet::diagControl);
     updater_->add("Safety", this, &DriverNodelet::diagSafety);
+    updater_->add("Commands", this, &DriverNodelet::diagCommands);
     updater_->add("Battery", this, &DriverNodelet::diagBattery);
     diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5),
                                      [this](const ros::WallTimerEvent&)
@@ -182,6 +189,7 @@ private:
       }
       if (n > 0)
         publish(snap, now);
+      reportWatchdog();
       processOutcomes();
       return n;
     };
@@ -192,6 +200,7 @@ private:
         core_->control(now, out);
         flushPending(out);
       }
+      reportWatchdog();
       processOutcomes();
     };
     h.on_state = [this](LinkState state, const std::string& reason) { linkState(state, reason); };
@@ -241,7 +250,10 @@ private:
     config_.limits.max_accel = sl_params::read<double>(pnh, "max_accel", 1.0);
     config_.limits.max_angular_accel = sl_params::read<double>(pnh, "max_angular_accel", 6.0);
 
-    config_.cmd_vel_timeout = sl_params::read<double>(pnh, "cmd_vel_timeout", 0.5);
+    require(!pnh.hasParam("cmd_vel_timeout"),
+            "~cmd_vel_timeout is not a parameter of this driver: ~command_timeout (at most 0.3 s) bounds cmd_vel "
+            "and drive_distance heartbeats alike");
+    config_.command_timeout = sl_params::read<double>(pnh, "command_timeout", 0.25);
     config_.cmd_vel_preempts_goal = sl_params::read<bool>(pnh, "cmd_vel_preempts_goal", true);
     config_.use_wait_distance = sl_params::read<bool>(pnh, "use_wait_distance", false);
     config_.command_refresh = sl_params::read<double>(pnh, "command_refresh", 0.2);
@@ -295,6 +307,12 @@ private:
       NODELET_ERROR_THROTTLE(1.0, "cmd_vel rejected: %s", error.c_str());
     processOutcomes();
     link_->requestControl();
+  }
+
+  void heartbeat(const std_msgs::Empty::ConstPtr&)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    core_->heartbeat(steadyNow());
   }
 
   void goalCallback(GoalHandle gh)
@@ -383,6 +401,21 @@ private:
       NODELET_INFO("create_driver: robot on %s is streaming", link_params_.port.c_str());
     processOutcomes();
     publishMode();
+  }
+
+  // Logs once when the command watchdog stops the robot (its sender froze or died).
+  void reportWatchdog()
+  {
+    std::string lost;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      lost = core_->commandSourceLost();
+      if (lost == reported_lost_)
+        return;
+      reported_lost_ = lost;
+    }
+    if (!lost.empty())
+      NODELET_ERROR("create_driver: robot stopped: %s", lost.c_str());
   }
 
   void processOutcomes()
@@ -667,6 +700,27 @@ private:
     st.add("mode re-assertions", core_->stats().mode_reasserts);
   }
 
+  void diagCommands(diagnostic_updater::DiagnosticStatusWrapper& st)
+  {
+    std::string lost;
+    double age = 0.0;
+    DriverStats ds;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      lost = core_->commandSourceLost();
+      age = core_->commandAge(steadyNow());
+      ds = core_->stats();
+    }
+    if (!lost.empty())
+      st.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "robot stopped: " + lost);
+    else
+      st.summary(diagnostic_msgs::DiagnosticStatus::OK, age < 0.0 ? "no command yet" : "ok");
+    st.add("command_timeout (s)", config_.command_timeout);
+    st.add("newest command age (s)", age);
+    st.add("cmd_vel watchdog stops", ds.watchdog_stops);
+    st.add("heartbeat stops", ds.heartbeat_stops);
+  }
+
   void diagBattery(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
     SensorState s;
@@ -706,6 +760,7 @@ private:
   Bytes pending_out_;
   std::map<uint64_t, GoalHandle> goals_;
   LinkState link_state_ = LinkState::DISCONNECTED;
+  std::string reported_lost_;  // the watchdog stop last logged
 
   // Publication state (worker thread, except the mode which has its own lock).
   Hazards last_hazards_;
@@ -722,7 +777,7 @@ private:
   uint64_t last_overruns_ = 0;
 
   ros::Publisher odom_pub_, hazards_pub_, battery_pub_, mode_pub_;
-  ros::Subscriber cmd_sub_;
+  ros::Subscriber cmd_sub_, heartbeat_sub_;
   ros::ServiceServer reset_srv_;
   ros::WallTimer diag_timer_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;

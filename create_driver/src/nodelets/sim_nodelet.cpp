@@ -97,6 +97,9 @@ private:
     require(seed >= 0, "~seed must be >= 0");
     p.seed = static_cast<uint32_t>(seed);
     p.block_on_contact = sl_params::read<bool>(pnh, "block_on_contact", true);
+    p.command_watchdog = sl_params::read<double>(pnh, "command_watchdog", 0.0);
+    require(p.command_watchdog == 0.0 || (p.command_watchdog >= 0.05 && p.command_watchdog <= 10.0),
+            "~command_watchdog must be 0 (none, like the real Create) or in [0.05, 10] s");
     return p;
   }
 
@@ -288,6 +291,12 @@ private:
       robot_->receive(buf, static_cast<size_t>(n));
     robot_->step(dt);
     logRefusals();
+    if (robot_->watchdogStops() != watchdog_logged_)
+    {
+      watchdog_logged_ = robot_->watchdogStops();
+      NODELET_WARN("create_sim: no byte from the host for %.2f s (~command_watchdog): wheels stopped",
+                   robot_->params().command_watchdog);
+    }
     out.clear();
     robot_->takeOutput(out);
     if (!out.empty() && pty_.isOpen())
@@ -356,6 +365,7 @@ private:
     s.commands = robot_->commands();
     s.refused_commands = robot_->refusedCommands();
     s.last_refusal = robot_->lastRefusal();
+    s.watchdog_stops = robot_->watchdogStops();
   }
 
   double rate_ = 200.0;
@@ -368,8 +378,9 @@ private:
   std::unique_ptr<SimRobot> robot_;
   Pty pty_;
   uint32_t pty_opens_ = 0;
-  uint64_t refused_logged_ = 0;  // refusals already logged
-  std::string refusal_logged_;   // the reason last logged
+  uint64_t refused_logged_ = 0;   // refusals already logged
+  uint64_t watchdog_logged_ = 0;  // watchdog stops already logged
+  std::string refusal_logged_;    // the reason last logged
   bool reopen_requested_ = false;
   bool reopen_pending_ = false;
   double reopen_at_ = 0.0;

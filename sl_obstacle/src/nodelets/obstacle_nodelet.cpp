@@ -32,6 +32,7 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <sl_msgs/DriveDistanceAction.h>
 #include <sl_msgs/Hazards.h>
+#include <std_msgs/Empty.h>
 #include <tf2/utils.h>
 
 #include "cloud_conversion.h"
@@ -136,6 +137,7 @@ private:
   bool reconfigure_ready_ = false;
 
   std::unique_ptr<Client> client_;
+  ros::Publisher heartbeat_pub_;  // drive_distance/heartbeat: the running goal's decisions go on
   bool goal_active_ = false;
   double goal_remaining_ = 0.0;
   double goal_speed_ = 0.0;
@@ -197,6 +199,7 @@ void ObstacleNodelet::onInit()
   if (params_.command_mode == CommandMode::ACTION)
   {
     client_ = std::make_unique<Client>(nh_, "drive_distance", false);
+    heartbeat_pub_ = ros::NodeHandle(nh_, "drive_distance").advertise<std_msgs::Empty>("heartbeat", 1);
   }
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
@@ -680,6 +683,11 @@ void ObstacleNodelet::decide(const ros::Time& now, bool map_updated)
   }
   const Decision& d = decider_->step(now.toSec(), motion());
   execute(d, now);
+  if (goal_active_)
+  {
+    // Each decision step keeps the goal alive in the driver; a frozen or dead node stops the robot.
+    heartbeat_pub_.publish(std_msgs::Empty());
+  }
   publishStatus(&d, now);
 }
 
@@ -785,6 +793,10 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
             case R::INVALID_GOAL:
               end = GoalEnd::FAILED;
               what = "invalid goal";
+              break;
+            case R::HEARTBEAT_LOST:
+              end = GoalEnd::FAILED;
+              what = "heartbeat lost";
               break;
             default:
               break;

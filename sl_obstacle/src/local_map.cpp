@@ -614,8 +614,12 @@ void LocalMap::toOccupancy(double now, std::vector<std::int8_t>& data, double& o
     for (int lx = 0; lx < n_; ++lx, ++i)
     {
       bool suspect = false;
-      const CellState s = slotState(slot(lx, ly), now, &suspect);
-      data[i] = s == CellState::Occupied ? 100 : s == CellState::Free ? 0 : suspect ? 50 : -1;
+      const std::size_t cell = slot(lx, ly);
+      const CellState s = slotState(cell, now, &suspect);
+      // Occupied by lit suspects alone (no decoded point): 50, as a suspect; the decisions and the
+      // filter still treat the cell as occupied.
+      const bool hit = extent_[cell].hits > 0;
+      data[i] = s == CellState::Occupied ? (hit ? 100 : 50) : s == CellState::Free ? 0 : suspect ? 50 : -1;
     }
   }
 }

@@ -618,5 +618,21 @@ TEST(LocalMap, OtherGeometries)
   }
   EXPECT_EQ(countCells(map, 0.0, 0), 19);  // the cells from -0.45 to 0.46
 }
+
+TEST(LocalMap, OccupiedByLitEndsAlonePublishesAsSuspect)
+{
+  // To the decisions a voxel that pairs of lit ends made occupied is occupied; in the published
+  // grid it is 50 (a suspect): only a decoded point (or a bump) makes 100.
+  LocalMap map{ MapParams() };
+  const MapRay lit1 = ray(0.0F, 0.01F, kLow, 0.61F, 0.01F, kLow, RayKind::Suspect);
+  const MapRay lit2 = ray(0.0F, 0.012F, kLow, 0.612F, 0.012F, kLow, RayKind::Suspect);
+  map.insert({ lit1, lit2 }, 0.0);
+  map.insert({ lit1, lit2 }, 0.0);
+  ASSERT_EQ(map.state(0.61, 0.01, 0.0), CellState::Occupied);
+  EXPECT_EQ(countCells(map, 0.0, 100), 0);
+  EXPECT_EQ(countCells(map, 0.0, 50), 1);
+  map.insert({ ray(0.0F, 0.01F, kLow, 0.615F, 0.01F, kLow, RayKind::Hit) }, 0.0);
+  EXPECT_EQ(countCells(map, 0.0, 100), 1);
+}
 }  // namespace
 }  // namespace sl_obstacle

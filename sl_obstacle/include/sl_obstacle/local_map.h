@@ -153,8 +153,10 @@ public:
   CellInfo cellInfo(int ix, int iy, double now) const;
 
   /// The window as a nav_msgs/OccupancyGrid-style array, row-major from the window's origin
-  /// (lower left corner, x fastest): -1 unknown, 0 free, 100 occupied, 50 for an unknown cell with
-  /// some slice at least half-way to occupied_threshold (e.g. a single suspect).
+  /// (lower left corner, x fastest): -1 unknown, 0 free, 100 occupied with a decoded point (or a
+  /// bump), 50 for a cell occupied by lit suspects alone or an unknown cell with some slice at least
+  /// half-way to occupied_threshold (e.g. a single suspect). cellState() is not affected: to the
+  /// decisions and the filter a suspect-occupied cell is occupied.
   /// @param data     resized to width * width (allocates only when its capacity is too small)
   /// @param origin_x x of the window's lower left corner (m, odom)
   /// @param origin_y y of the window's lower left corner (m, odom)

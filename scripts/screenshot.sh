@@ -8,6 +8,9 @@
 # before an obstacle (obstacle_status BLOCKED / OBSTACLE, at most 120 s) and two seconds more, grabs
 # the screen (xwd), writes OUTPUT (default doc/sl_rviz.png, 256 colours when that keeps it under
 # 300 KB) and stops everything it started. Needs xvfb, x11-apps (xwd) and imagemagick (convert).
+# With GOAL="x y" (world frame, m) and `-- behaviour:=navigate ...` it sends that goal as rviz's
+# "2D Nav Goal" does and grabs the screen once the robot has driven GOAL_TRAVEL m (default 1.0)
+# toward it, with the plan in view.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/doc/sl_rviz.png"
@@ -56,6 +59,30 @@ sleep 2
 roslaunch -p 11811 sl_bringup sim.launch rviz:=true "${sim_args[@]}" > "$work/launch.log" 2>&1 &
 launch_pid=$!
 
+if [[ -n ${GOAL:-} ]]; then
+  GOAL="$GOAL" GOAL_TRAVEL="${GOAL_TRAVEL:-1.0}" /usr/bin/python3 - <<'EOF' || { tail -n 30 "$work/launch.log"; exit 1; }
+import os, sys, rospy
+from geometry_msgs.msg import PoseStamped
+from sl_msgs.msg import NavigationStatus
+rospy.init_node("screenshot_goal", anonymous=True, disable_signals=True)
+rospy.wait_for_message("/navigation_status", NavigationStatus, timeout=120.0)
+pub = rospy.Publisher("/move_base_simple/goal", PoseStamped, queue_size=1, latch=True)
+goal = PoseStamped()
+goal.header.frame_id = "world"
+goal.pose.position.x, goal.pose.position.y = (float(v) for v in os.environ["GOAL"].split())
+rospy.sleep(1.0)
+pub.publish(goal)
+travel = float(os.environ["GOAL_TRAVEL"])
+deadline = rospy.get_time() + 180.0
+while rospy.get_time() < deadline:
+    s = rospy.wait_for_message("/navigation_status", NavigationStatus, timeout=10.0)
+    if s.travelled >= travel or s.state == NavigationStatus.SUCCEEDED:
+        sys.exit(0)
+    if s.state == NavigationStatus.ABORTED:
+        sys.exit("screenshot: the goal was aborted: " + s.reason)
+sys.exit("screenshot: the robot did not drive %.1f m toward the goal within 180 s" % travel)
+EOF
+else
 /usr/bin/python3 - <<'EOF' || { tail -n 30 "$work/launch.log"; exit 1; }
 import sys, rospy
 from sl_obstacle.msg import ObstacleStatus
@@ -70,6 +97,7 @@ while rospy.get_time() < deadline:
         sys.exit(0)
 sys.exit("screenshot: the robot did not stop before an obstacle within 120 s")
 EOF
+fi
 sleep 2
 xwd -root -silent > "$work/screen.xwd"
 mkdir -p "$(dirname "$out")"

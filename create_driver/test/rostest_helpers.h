@@ -8,6 +8,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include <create_driver/Mode.h>
 #include <create_driver/SimStatus.h>
@@ -79,20 +80,28 @@ private:
 
 /// @brief The heartbeat of a drive_distance client: std_msgs/Empty on drive_distance/heartbeat every
 /// 0.1 s while not paused (the driver aborts a goal whose heartbeat stops for command_timeout).
+/// A thread of its own, joined by the destructor: nothing publishes once the object is gone.
 class Heartbeat
 {
 public:
   explicit Heartbeat(ros::NodeHandle& nh) : pub_(nh.advertise<std_msgs::Empty>("drive_distance/heartbeat", 1))
   {
-    timer_ = nh.createWallTimer(ros::WallDuration(0.1),
-                                [this](const ros::WallTimerEvent&)
-                                {
-                                  if (!paused_)
-                                    pub_.publish(std_msgs::Empty());
-                                });
+    thread_ = std::thread(
+        [this]
+        {
+          while (running_ && ros::ok())
+          {
+            if (!paused_)
+              pub_.publish(std_msgs::Empty());
+            ros::WallDuration(0.1).sleep();
+          }
+        });
   }
-  // No callback runs once the timer has stopped (stop() waits for one in progress).
-  ~Heartbeat() { timer_.stop(); }
+  ~Heartbeat()
+  {
+    running_ = false;
+    thread_.join();
+  }
   Heartbeat(const Heartbeat&) = delete;
   Heartbeat& operator=(const Heartbeat&) = delete;
   /// Stops (true) or resumes (false) the heartbeat: a frozen client.
@@ -100,8 +109,9 @@ public:
 
 private:
   ros::Publisher pub_;
-  ros::WallTimer timer_;
+  std::atomic<bool> running_{ true };
   std::atomic<bool> paused_{ false };
+  std::thread thread_;  // last: started once the members it uses exist
 };
 
 /// @brief Value of @p key in the diagnostic status whose name ends with @p status_suffix.

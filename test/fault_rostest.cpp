@@ -14,6 +14,7 @@
 //   - No bumper contact and no bumper hazard at any time.
 // A frozen process gets SIGCONT at the end, so that the launch ends cleanly.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <sys/types.h>
@@ -95,20 +97,27 @@ protected:
     command_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel_in", 1);
     if (mode_ == "filter")
     {
-      // The user: commands keep coming whatever happens to the robot's processes.
-      command_timer_ = nh_.createWallTimer(ros::WallDuration(0.1),
-                                           [this](const ros::WallTimerEvent&)
-                                           {
-                                             geometry_msgs::Twist t;
-                                             t.linear.x = speed_;
-                                             command_pub_.publish(t);
-                                           });
+      // The user: commands keep coming whatever happens to the robot's processes (a thread of its
+      // own, joined in TearDown(): nothing publishes once the fixture is gone).
+      command_thread_ = std::thread(
+          [this]
+          {
+            geometry_msgs::Twist t;
+            t.linear.x = speed_;
+            while (commanding_ && ros::ok())
+            {
+              command_pub_.publish(t);
+              ros::WallDuration(0.1).sleep();
+            }
+          });
     }
   }
 
   void TearDown() override
   {
-    command_timer_.stop();
+    commanding_ = false;
+    if (command_thread_.joinable())
+      command_thread_.join();
     pose_sub_.shutdown();
     contact_sub_.shutdown();
     hazards_sub_.shutdown();
@@ -281,7 +290,8 @@ private:
   ros::NodeHandle nh_;
   ros::Subscriber pose_sub_, contact_sub_, hazards_sub_, status_sub_, goals_sub_, diag_sub_;
   ros::Publisher command_pub_;
-  ros::WallTimer command_timer_;
+  std::atomic<bool> commanding_{ true };
+  std::thread command_thread_;
 };
 
 TEST_F(Fault, RobotStopsAfterTheFault)

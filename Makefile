@@ -1,7 +1,8 @@
 # One-command entry points (see README "Quick start").
 #   make sim    install what is missing, build, run the simulated system
 #   make test   install what is missing, build, run every test, print "N passed, N failed"
-#   make soak   ten minutes of exploring the room scene: no contact, distance and area printed
+#   make soak   DURATION (600) s of exploring the room scene: no collision, distance, area and the
+#               manager's resident memory printed, memory flat after the first minutes
 #   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
 #   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run
 # Catkin and the ROS tools need Debian's /usr/bin/python3, not a pyenv shim that may shadow it.
@@ -11,6 +12,7 @@ WS    := $(ROOT)/catkin_ws
 JOBS  ?= $(shell nproc)
 BUILD_TYPE ?= Release
 FUZZ_SECONDS ?= 30
+DURATION ?= 600
 ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH PYTHONHOME; source $(WS)/devel/setup.bash
 CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
           -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
@@ -38,7 +40,9 @@ test-asan: deps
 soak: build
 	@$(ROSENV); catkin_make -C $(WS) explore_rostest > $(WS)/soak_build.log 2>&1 || { tail -n 30 $(WS)/soak_build.log; exit 1; }; \
 	  rostest --text --pkgdir=$(WS)/src/sl_bringup --package=sl_bringup $(WS)/src/sl_bringup/test/explore.test \
-	  scene:=room seed:=$(or $(SEED),7) duration:=600 min_travel:=5.0 time_limit:=720 2>&1 | grep -E 'explore |FAIL|Failure|passed|failed|SUMMARY|RESULT'
+	  scene:=room seed:=$(or $(SEED),7) duration:=$(DURATION) min_travel:=$$(( $(DURATION) / 120 )) \
+	  time_limit:=$$(( $(DURATION) + 180 )) memory_node:=/sl_manager 2>&1 \
+	  | grep -E 'explore |explore memory|min clearance|FAIL|Failure|passed|failed|SUMMARY|RESULT'
 
 bench: build
 	@$(ROSENV); $(ROOT)/scripts/run_benchmarks.sh $(WS)

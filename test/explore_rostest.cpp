@@ -24,6 +24,7 @@
 
 #include <sl_sim/scene.h>
 
+#include "node_process.h"
 #include "sim_watch.h"
 
 namespace
@@ -205,9 +206,24 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
     last_motion_ = ros::WallTime::now();
   }
   ASSERT_TRUE(waitForSystem(60.0)) << "no true_pose from create_sim or no obstacle_status";
+  // The soak: resident memory of the manager every memory_period s (empty ~memory_node: none).
+  const std::string memory_node = ros::param::param<std::string>("~memory_node", "");
+  const double memory_period = privateParam("memory_period", 60.0);
+  const int memory_pid = memory_node.empty() ? -1 : nodePid(memory_node);
+  if (!memory_node.empty())
+  {
+    ASSERT_GT(memory_pid, 0) << "no pid for ~memory_node " << memory_node;
+  }
+  std::vector<double> memory;  // MB, one sample per memory_period
   const ros::WallTime run = ros::WallTime::now();
   while (ros::ok() && (ros::WallTime::now() - run).toSec() < duration)
   {
+    if (memory_pid > 0 && (ros::WallTime::now() - run).toSec() >= memory_period * memory.size())
+    {
+      memory.push_back(residentMegabytes(memory_pid));
+      ROS_INFO("explore memory: %s resident %.1f MB after %.0f s", memory_node.c_str(), memory.back(),
+               (ros::WallTime::now() - run).toSec());
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (contact_bits_ != 0 || bumped_ || colliding_messages_ > 0)
@@ -229,6 +245,14 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   EXPECT_GE(path_, min_travel) << "the robot did not move enough where the space allows";
   ROS_INFO("explore %s: %.2f m along the start heading", scene_.name.c_str(), progress_);
   EXPECT_GE(progress_, min_progress) << "the robot did not get far enough along its start heading";
+  // Flat memory: after the first memory_settle samples it grows by at most memory_growth MB.
+  const std::size_t settle = static_cast<std::size_t>(privateParam("memory_settle", 3.0));
+  if (memory.size() > settle + 1)
+  {
+    const double growth = privateParam("memory_growth", 10.0);
+    EXPECT_LE(memory.back() - memory[settle], growth)
+        << memory_node << " grew from " << memory[settle] << " MB to " << memory.back() << " MB";
+  }
   for (const double e : stop_errors_)
     EXPECT_LE(std::abs(e), tolerance) << "stop " << e << " m off the clearance (obstacle in the path)";
   for (const double e : side_stop_errors_)

@@ -42,37 +42,18 @@
 
 #include <sl_testing/rostest_main.h>
 
+#include "node_process.h"
+
 namespace
 {
+using sl_bringup_test::nodePid;
+
 template <class T>
 T privateParam(const std::string& name, T fallback)
 {
   T v = fallback;
   ros::param::get("~" + name, v);
   return v;
-}
-
-/// The pid of the process that holds node @p node (its getPid), or -1 when it is not registered or
-/// does not answer.
-int nodePid(const std::string& node)
-{
-  XmlRpc::XmlRpcValue args, result, payload;
-  args[0] = ros::this_node::getName();
-  args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, false))
-    return -1;
-  std::string host;
-  uint32_t port = 0;
-  if (payload.getType() != XmlRpc::XmlRpcValue::TypeString ||
-      !ros::network::splitURI(static_cast<std::string>(payload), host, port))
-    return -1;
-  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
-  XmlRpc::XmlRpcValue call, answer;
-  call[0] = ros::this_node::getName();
-  if (!client.execute("getPid", call, answer) || answer.getType() != XmlRpc::XmlRpcValue::TypeArray ||
-      answer.size() < 3 || static_cast<int>(answer[0]) != 1)
-    return -1;
-  return static_cast<int>(answer[2]);
 }
 
 /// A true pose at a time of create_sim's clock.

@@ -33,6 +33,15 @@ public:
     pid_ = fork();
     if (pid_ == 0)
     {
+      // The child stops on SIGINT as a node does, also when the test itself was started with
+      // SIGINT ignored (a background job of a non-interactive shell, nohup): restore the default.
+      struct sigaction dfl = {};
+      dfl.sa_handler = SIG_DFL;
+      sigaction(SIGINT, &dfl, nullptr);
+      sigaction(SIGTERM, &dfl, nullptr);
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
       setpgid(0, 0);
       dup2(fds[1], STDOUT_FILENO);
       dup2(fds[1], STDERR_FILENO);

@@ -180,7 +180,8 @@ protected:
   std::string stop_reason_;
   static constexpr double kCentre = 0.10;  // m either side of the centre line: "in the path"
   // m a stop for an obstacle beside it may come late (measured down to -25.4 mm, hall seed 1 under
-  // CI load with the sanitizer tests beside it; a lateral error counts 2.1 times there, see below)
+  // CI load with the sanitizer tests beside it; a lateral error counts 2.1 times there, see below);
+  // ~side_late replaces it for a scene (explore.test)
   static constexpr double kSideLate = 0.030;
   // m ... or early: 0.15 m off the centre line the contact travel moves by y / sqrt(r^2 - y^2) = 2.1
   // times any lateral error, and the map's cells count from their nearest corner (measured up to
@@ -197,6 +198,7 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   const double min_travel = privateParam("min_travel", 0.0);
   const double min_progress = privateParam("min_progress", 0.0);
   const double tolerance = privateParam("tolerance", 0.010);
+  const double side_late = privateParam("side_late", kSideLate);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     scene_ = sl_sim::loadScene(scene_file);
@@ -257,7 +259,7 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
     EXPECT_LE(std::abs(e), tolerance) << "stop " << e << " m off the clearance (obstacle in the path)";
   for (const double e : side_stop_errors_)
   {
-    EXPECT_GE(e, -kSideLate) << "stop " << e << " m nearer than the clearance (obstacle beside the centre line)";
+    EXPECT_GE(e, -side_late) << "stop " << e << " m nearer than the clearance (obstacle beside the centre line)";
     EXPECT_LE(e, kSideEarly) << "stop " << e << " m early (obstacle beside the centre line)";
   }
 }

@@ -204,16 +204,6 @@ bool NavGrid::fuse(const OccupancyView& v, double stamp)
 
 void NavGrid::markFree(double x, double y, double radius, double stamp)
 {
-  markDisc(x, y, radius, stamp, Cell::Free);
-}
-
-void NavGrid::markOccupied(double x, double y, double radius, double stamp)
-{
-  markDisc(x, y, std::max(radius, 0.0), stamp, Cell::Occupied);
-}
-
-void NavGrid::markDisc(double x, double y, double radius, double stamp, Cell state)
-{
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(radius) || radius < 0.0 || !std::isfinite(stamp))
   {
     return;
@@ -229,8 +219,8 @@ void NavGrid::markDisc(double x, double y, double radius, double stamp, Cell sta
     {
       if (std::hypot(centerX(ix) - x, centerY(iy) - y) <= radius)
       {
-        changed |= state_[index(ix, iy)] != state;
-        state_[index(ix, iy)] = state;
+        changed |= state_[index(ix, iy)] != Cell::Free;
+        state_[index(ix, iy)] = Cell::Free;
         seen_[index(ix, iy)] = t_rel;
       }
     }

@@ -337,9 +337,8 @@ bool Navigator::lookAround(const Pose& pose, double now)
     const double error = wrapAngle(targets[look_step_] - pose.yaw);
     if (std::abs(error) > 0.05 && now - look_started_ < 10.0 * (look_step_ + 1))
     {
-      const double w = std::clamp(2.0 * error, -params_.follower.turn_speed, params_.follower.turn_speed);
       out_.linear = 0.0;
-      out_.angular = std::abs(w) < 0.2 ? std::copysign(0.2, error) : w;
+      out_.angular = turnRate(error, params_.follower.turn_speed);
       out_.mode = FollowMode::LOOK;
       char text[160];
       std::snprintf(text, sizeof(text), "stuck for %.1f s: looking around (%d of 3, %.2f rad to go)",

@@ -25,6 +25,12 @@ double wrapAngle(double a)
   return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 
+double turnRate(double error, double max_rate)
+{
+  const double w = std::clamp(2.0 * error, -max_rate, max_rate);
+  return std::abs(w) < 0.2 ? std::copysign(0.2, error) : w;
+}
+
 const char* toString(FollowMode mode)
 {
   switch (mode)
@@ -266,8 +272,7 @@ void PathFollower::rotateTo(double error, FollowMode mode)
   out_.mode = mode;
   out_.linear = 0.0;
   speed_ = 0.0;
-  const double w = std::clamp(2.0 * error, -params_.turn_speed, params_.turn_speed);
-  out_.angular = std::abs(w) < 0.2 ? std::copysign(0.2, error) : w;
+  out_.angular = turnRate(error, params_.turn_speed);
 }
 
 void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double speed_cap)

@@ -85,6 +85,18 @@ World furnishedRooms()
   return w;
 }
 
+/// An all-free 4 x 4 m window of 0.02 m cells around the origin, its cells in @p data.
+OccupancyView freeWindow(std::vector<std::int8_t>& data)
+{
+  data.assign(200 * 200, 0);
+  OccupancyView v;
+  v.data = data.data();
+  v.width = v.height = 200;
+  v.resolution = 0.02;
+  v.origin_x = v.origin_y = -2.0;
+  return v;
+}
+
 NavigatorParams params()
 {
   NavigatorParams p;
@@ -178,12 +190,8 @@ TEST(Navigator, RefusesBadGoalsAtOnceAndSendsOneStop)
 TEST(Navigator, StopsOnAStaleMapOrABadPoseAndRefusesWhatTheCallerCannotTake)
 {
   Navigator nav(params());
-  std::vector<std::int8_t> data(200 * 200, 0);
-  OccupancyView v;
-  v.data = data.data();
-  v.width = v.height = 200;
-  v.resolution = 0.02;
-  v.origin_x = v.origin_y = -2.0;
+  std::vector<std::int8_t> data;
+  const OccupancyView v = freeWindow(data);
   ASSERT_TRUE(nav.onMap(v, 1.0));
   ASSERT_TRUE(nav.setGoal(NavGoal{ 1.5, 0.0, 0.0, false }, 1.0).empty());
   EXPECT_GT(nav.step(Pose(), 1.1).linear, 0.0);
@@ -213,12 +221,8 @@ TEST(Navigator, StopsOnAStaleMapOrABadPoseAndRefusesWhatTheCallerCannotTake)
 TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops)
 {
   Navigator nav(params());
-  std::vector<std::int8_t> data(200 * 200, 0);
-  OccupancyView v;
-  v.data = data.data();
-  v.width = v.height = 200;
-  v.resolution = 0.02;
-  v.origin_x = v.origin_y = -2.0;
+  std::vector<std::int8_t> data;
+  const OccupancyView v = freeWindow(data);
   ASSERT_TRUE(nav.onMap(v, 1.0));
   ASSERT_TRUE(nav.setGoal(NavGoal{ 1.5, 0.0, 0.0, false }, 1.0).empty());
   EXPECT_GT(nav.step(Pose(), 1.1).linear, 0.0);

@@ -69,9 +69,6 @@ public:
   /// Marks the cells whose centre lies within @p radius of (x, y) free at @p stamp (the robot's body).
   void markFree(double x, double y, double radius, double stamp);
 
-  /// Marks the cells whose centre lies within @p radius of (x, y) occupied at @p stamp (a spot the
-  /// robot could not drive into); fused windows that see them free clear them.
-  void markOccupied(double x, double y, double radius, double stamp);
   /// State of cell (ix, iy) at @p now; Unknown outside the map.
   Cell cell(int ix, int iy, double now) const;
   /// State of the cell holding (x, y) at @p now; Unknown outside the map or for NaN.
@@ -103,7 +100,6 @@ public:
 
 private:
   std::size_t index(int ix, int iy) const { return static_cast<std::size_t>(iy) * n_ + ix; }
-  void markDisc(double x, double y, double radius, double stamp, Cell state);
 
   GridParams params_;
   int n_ = 0;

@@ -166,4 +166,8 @@ private:
 
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double a);
+
+/// Turn rate in place toward a heading @p error (rad) away: 2 * error, at most @p max_rate, at
+/// least 0.2 rad/s (so that the last bit of a turn still moves the robot).
+double turnRate(double error, double max_rate);
 }  // namespace sl_navigation

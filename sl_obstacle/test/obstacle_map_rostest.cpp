@@ -91,7 +91,8 @@ protected:
   {
     std::lock_guard<std::mutex> lock(mutex_);
     last_ = msg;
-    ++statuses_;
+    if (statuses_++ == 0)
+      joined_at_ = msg.cloud_stamp.toNSec();
     // The order of the first decision on each image's cloud and the first on the map with its rays.
     first_on_cloud_.emplace(msg.cloud_stamp.toNSec(), statuses_);
     if (!msg.map_stamp.isZero())
@@ -133,6 +134,7 @@ protected:
   std::mutex mutex_;
   sl_obstacle::ObstacleStatus last_;
   int statuses_ = 0;
+  uint64_t joined_at_ = 0;  // the image of the first status seen: its cloud's status may predate us
   std::map<uint64_t, int> first_on_cloud_, first_on_map_;  // image stamp -> index of the status
   bool state_error_ = false;
 };
@@ -169,8 +171,8 @@ TEST_F(ObstacleMap, DecidesAgainOnEachMapUpdateAfterTheStopCheck)
   for (const auto& m : first_on_map_)
   {
     const auto c = first_on_cloud_.find(m.first);
-    if (c == first_on_cloud_.end())
-      continue;  // its points were dropped: the rays went in alone
+    if (c == first_on_cloud_.end() || m.first <= joined_at_)
+      continue;  // its points were dropped (the rays went in alone), or it came before we subscribed
     EXPECT_LT(c->second, m.second) << "the map-updated plan came before the stop check on the cloud";
     ++ordered;
   }

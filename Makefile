@@ -1,6 +1,7 @@
 # One-command entry points (see README "Quick start").
 #   make sim    install what is missing, build, run the simulated system
 #   make test   install what is missing, build, run every test, print "N passed, N failed"
+#   make test-unit  build and run the gtests only (the cores; about a minute once built)
 #   make soak   DURATION (600) s of exploring the room scene: no collision, distance, area and the
 #               manager's resident memory printed, memory flat after the first minutes
 #   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
@@ -17,7 +18,7 @@ ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH 
 CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
           -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
 
-.PHONY: all deps build sim test test-asan bench soak fuzz clean
+.PHONY: all deps build sim test test-unit test-asan bench soak fuzz clean
 all: build
 
 deps:
@@ -33,6 +34,9 @@ sim: build
 
 test: build
 	@$(ROOT)/scripts/run_tests.sh $(WS) $(JOBS)
+
+test-unit: build
+	@$(ROOT)/scripts/run_unit_tests.sh $(WS) $(JOBS)
 
 test-asan: deps
 	@$(ROOT)/scripts/run_asan_tests.sh $(WS) $(JOBS)

@@ -10,8 +10,9 @@ ws="$1"; jobs="${2:-2}"
 export PATH=/usr/bin:/bin:$PATH PYTHONNOUSERSITE=1
 unset PYTHONPATH PYTHONHOME
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
-targets=(sl_projector_test sl_camera_test sl_sim_test sl_decoder_test sl_calibration_test sl_evaluation_test sl_obstacle_test
-         sl_navigation_test create_driver_test sl_bringup_test sl_testing_test)
+# shellcheck disable=SC1091
+source "$(dirname "$0")/gtest_targets.sh"
+targets=("${gtest_targets[@]}")
 log="$ws/asan_build.log"
 if ! catkin_make -C "$ws" --build "$ws/build_asan" -DCATKIN_DEVEL_PREFIX="$ws/devel_asan" -j"$jobs" \
     -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \

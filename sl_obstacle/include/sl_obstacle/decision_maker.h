@@ -43,7 +43,7 @@ struct DecisionParams
   void validate() const;
 };
 
-/// Decision state (values equal the ObstacleStatus message constants).
+/// Decision state (values equal the ObstacleStatus message constants; src/nodelets/status_codes.h checks it).
 enum class State : std::uint8_t
 {
   STALE = 0,
@@ -55,7 +55,7 @@ enum class State : std::uint8_t
   BACKING_OFF = 6
 };
 
-/// Why (values equal the ObstacleStatus REASON_* constants).
+/// Why (values equal the ObstacleStatus REASON_* constants; src/nodelets/status_codes.h checks it).
 enum class Reason : std::uint8_t
 {
   NO_DATA = 0,
@@ -82,7 +82,7 @@ enum class Reason : std::uint8_t
   CREEPING = 26  ///< a goal at creep_speed over cells never seen (the safety filter's reasons are 21..25)
 };
 
-/// What the robot is told (values equal the ObstacleStatus COMMAND_* constants).
+/// What the robot is told (values equal the ObstacleStatus COMMAND_* constants; checked as State).
 enum class Command : std::uint8_t
 {
   NONE = 0,   ///< keep going (the running goal continues)

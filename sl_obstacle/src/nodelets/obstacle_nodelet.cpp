@@ -38,6 +38,7 @@
 #include "cloud_conversion.h"
 #include "filter_output.h"
 #include "params.h"
+#include "status_codes.h"
 #include "sl_obstacle/ObstacleStatus.h"
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/safety_filter.h"

@@ -195,7 +195,8 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   std::string scene_file;
   ASSERT_TRUE(ros::param::get("~scene", scene_file)) << "~scene is required";
   const double duration = privateParam("duration", 60.0);
-  const double min_travel = privateParam("min_travel", 0.0);
+  const double min_travel = privateParam("min_travel", -1.0);
+  ASSERT_GT(min_travel, 0.0) << "~min_travel must be given (m of path the scene allows)";
   const double min_progress = privateParam("min_progress", 0.0);
   const double tolerance = privateParam("tolerance", 0.010);
   const double side_late = privateParam("side_late", kSideLate);

@@ -29,7 +29,7 @@ import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist
 from sl_msgs.msg import DriveDistanceAction, DriveDistanceFeedback, DriveDistanceResult
-from sl_obstacle.msg import ObstacleStatus
+from sl_msgs.msg import ObstacleStatus
 from std_srvs.srv import SetBool
 
 STATES = {0: "STALE", 1: "STOPPED", 2: "BLOCKED", 3: "TURNING", 4: "SLOWING", 5: "DRIVING"}

@@ -40,11 +40,11 @@ cleanup() {
 trap 'cleanup; rm -rf "$work"' EXIT
 
 # wait_for CONDITION TIMEOUT: returns when the obstacle node's status satisfies CONDITION (python
-# expression on `s`, an sl_obstacle/ObstacleStatus), fails after TIMEOUT s.
+# expression on `s`, an sl_msgs/ObstacleStatus), fails after TIMEOUT s.
 wait_for() {
   /usr/bin/python3 - "$1" "$2" <<'EOF'
 import sys, rospy
-from sl_obstacle.msg import ObstacleStatus
+from sl_msgs.msg import ObstacleStatus
 condition, timeout = sys.argv[1], float(sys.argv[2])
 rospy.init_node("record_bringup_wait", anonymous=True, disable_signals=True)
 deadline = rospy.get_time() + timeout

@@ -85,7 +85,7 @@ EOF
 else
 /usr/bin/python3 - <<'EOF' || { tail -n 30 "$work/launch.log"; exit 1; }
 import sys, rospy
-from sl_obstacle.msg import ObstacleStatus
+from sl_msgs.msg import ObstacleStatus
 rospy.init_node("screenshot_wait", anonymous=True, disable_signals=True)
 deadline = rospy.get_time() + 120.0
 while rospy.get_time() < deadline:

@@ -30,7 +30,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
-#include <sl_obstacle/ObstacleStatus.h>
+#include <sl_msgs/ObstacleStatus.h>
 #include <yaml-cpp/yaml.h>
 
 #include <sl_testing/rostest_main.h>
@@ -38,7 +38,7 @@
 namespace
 {
 
-using Status = sl_obstacle::ObstacleStatus;
+using Status = sl_msgs::ObstacleStatus;
 
 const char* stateName(int state)
 {
@@ -253,7 +253,7 @@ TEST_F(BagRegression, CloudsAndDecisionsMatchTheRecording)
         << " (written by bag_regression_rostest: scripts/record_bringup_bags.sh).\n"
         << "# Per recorded image: the decoder's cloud (points; mean_x, min_x of the points in the working\n"
         << "# window |y| <= 0.1655, 0.015 < z <= 0.173, x <= 1.2 m) and the obstacle node's first decision on it\n"
-        << "# (state, reason = sl_obstacle/ObstacleStatus reason_code, blocked, nearest, free, coverage).\n"
+        << "# (state, reason = sl_msgs/ObstacleStatus reason_code, blocked, nearest, free, coverage).\n"
         << "tolerances:\n"
         << "  max_lost_frames: 1        # frames whose cloud or decision may be missing (a loaded machine)\n"
         << "  points_fraction: 0.10     # |points - expected| <= this * expected + points_abs\n"

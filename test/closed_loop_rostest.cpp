@@ -42,18 +42,18 @@ protected:
     }
   }
 
-  void onStatus(const sl_obstacle::ObstacleStatus& msg) override
+  void onStatus(const sl_msgs::ObstacleStatus& msg) override
   {
     have_status_ = true;
     status_ = msg;
-    if (msg.state == sl_obstacle::ObstacleStatus::DRIVING || msg.state == sl_obstacle::ObstacleStatus::SLOWING)
+    if (msg.state == sl_msgs::ObstacleStatus::DRIVING || msg.state == sl_msgs::ObstacleStatus::SLOWING)
       ever_drove_ = true;
   }
 
   ros::Time last_motion_;  // last time the true pose changed by more than 1 mm / 0.01 rad
   geometry_msgs::Pose motion_reference_;
   bool have_status_ = false;
-  sl_obstacle::ObstacleStatus status_;
+  sl_msgs::ObstacleStatus status_;
   bool ever_drove_ = false;
 };
 
@@ -76,8 +76,8 @@ TEST_F(ClosedLoop, StopsAtClearanceWithoutContact)
   {
     ros::WallDuration(0.1).sleep();
     std::lock_guard<std::mutex> lock(mutex_);
-    stopped = have_pose_ && have_status_ && ever_drove_ && status_.state == sl_obstacle::ObstacleStatus::BLOCKED &&
-              status_.reason_code == sl_obstacle::ObstacleStatus::REASON_OBSTACLE &&
+    stopped = have_pose_ && have_status_ && ever_drove_ && status_.state == sl_msgs::ObstacleStatus::BLOCKED &&
+              status_.reason_code == sl_msgs::ObstacleStatus::REASON_OBSTACLE &&
               (ros::Time::now() - last_motion_).toSec() > settle;
   }
   expectNoCollision();

@@ -76,9 +76,9 @@ protected:
           covered_.insert(static_cast<long>(cx + dx) * 100000L + (cy + dy));
   }
 
-  void onStatus(const sl_obstacle::ObstacleStatus& msg) override
+  void onStatus(const sl_msgs::ObstacleStatus& msg) override
   {
-    using S = sl_obstacle::ObstacleStatus;
+    using S = sl_msgs::ObstacleStatus;
     states_seen_ |= 1U << msg.state;
     // A trace of the decisions with the true pose, for the test's log.
     if (msg.state != last_state_ || msg.reason_code != last_reason_ || msg.command == S::COMMAND_DRIVE)

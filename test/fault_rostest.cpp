@@ -36,7 +36,7 @@
 #include <ros/network.h>
 #include <ros/ros.h>
 #include <sl_msgs/Hazards.h>
-#include <sl_obstacle/ObstacleStatus.h>
+#include <sl_msgs/ObstacleStatus.h>
 #include <std_msgs/UInt8.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
@@ -231,11 +231,11 @@ private:
     bumped_ = bumped_ || msg.bump_left || msg.bump_right;
   }
 
-  void onStatus(const sl_obstacle::ObstacleStatus& msg)
+  void onStatus(const sl_msgs::ObstacleStatus& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     last_reason_ = msg.reason;
-    if (faulted_ && msg.reason_code == sl_obstacle::ObstacleStatus::REASON_STALE_DATA)
+    if (faulted_ && msg.reason_code == sl_msgs::ObstacleStatus::REASON_STALE_DATA)
       stale_after_fault_ = true;
   }
 

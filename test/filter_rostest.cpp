@@ -32,7 +32,7 @@ namespace
 {
 
 using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.h
-using S = sl_obstacle::ObstacleStatus;
+using S = sl_msgs::ObstacleStatus;
 
 class Filter : public SimWatch
 {

@@ -77,7 +77,7 @@ protected:
     }
     last_pose_stamp_ = t;
   }
-  void onStatus(const sl_obstacle::ObstacleStatus&) override {}
+  void onStatus(const sl_msgs::ObstacleStatus&) override {}
 
   /// Resets the per-goal figures.
   void startCounting()

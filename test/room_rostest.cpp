@@ -64,9 +64,9 @@ protected:
     turned_ += turnBetween(now, *previous);
   }
 
-  void onStatus(const sl_obstacle::ObstacleStatus& msg) override
+  void onStatus(const sl_msgs::ObstacleStatus& msg) override
   {
-    using S = sl_obstacle::ObstacleStatus;
+    using S = sl_msgs::ObstacleStatus;
     if (status_stamps_ > 0 && (msg.header.stamp < last_status_stamp_ || msg.cloud_stamp < last_decided_cloud_))
       ++decisions_out_of_order_;
     ++status_stamps_;

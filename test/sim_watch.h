@@ -16,7 +16,7 @@
 #include <ros/ros.h>
 #include <sl_msgs/Collision.h>
 #include <sl_msgs/Hazards.h>
-#include <sl_obstacle/ObstacleStatus.h>
+#include <sl_msgs/ObstacleStatus.h>
 #include <std_msgs/UInt8.h>
 
 #include <sl_testing/rostest_main.h>
@@ -90,7 +90,7 @@ protected:
   /// A new true pose; @p previous is null for the first one. pose_ is updated after the call.
   virtual void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) = 0;
   /// A decision of the obstacle node.
-  virtual void onStatus(const sl_obstacle::ObstacleStatus& msg) = 0;
+  virtual void onStatus(const sl_msgs::ObstacleStatus& msg) = 0;
 
   /// Waits up to @p seconds for the system: a true pose and a decision. Call without mutex_ held.
   /// @return true when both arrived.
@@ -197,7 +197,7 @@ private:
     bumped_ = bumped_ || msg.bump_left || msg.bump_right;
   }
 
-  void statusCallback(const sl_obstacle::ObstacleStatus& msg)
+  void statusCallback(const sl_msgs::ObstacleStatus& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_messages_;

@@ -17,7 +17,7 @@
 #include <sl_testing/rostest_main.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include "sl_obstacle/ObstacleStatus.h"
+#include "sl_msgs/ObstacleStatus.h"
 
 namespace
 {
@@ -87,7 +87,7 @@ protected:
   }
 
   void onTwist(const geometry_msgs::Twist&) {}
-  void onStatus(const sl_obstacle::ObstacleStatus& msg)
+  void onStatus(const sl_msgs::ObstacleStatus& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     last_ = msg;
@@ -132,7 +132,7 @@ protected:
   ros::Subscriber twist_sub_, status_sub_, log_sub_;
   tf2_ros::TransformBroadcaster tf_;
   std::mutex mutex_;
-  sl_obstacle::ObstacleStatus last_;
+  sl_msgs::ObstacleStatus last_;
   int statuses_ = 0;
   uint64_t joined_at_ = 0;  // the image of the first status seen: its cloud's status may predate us
   std::map<uint64_t, int> first_on_cloud_, first_on_map_;  // image stamp -> index of the status
@@ -141,7 +141,7 @@ protected:
 
 TEST_F(ObstacleMap, StopsWithoutOdometryAndNamesAMissingField)
 {
-  using S = sl_obstacle::ObstacleStatus;
+  using S = sl_msgs::ObstacleStatus;
   run(4.0, false, true);
   {
     std::lock_guard<std::mutex> lock(mutex_);

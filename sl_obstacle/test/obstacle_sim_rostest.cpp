@@ -25,11 +25,11 @@
 #include <std_srvs/SetBool.h>
 #include <tf2/utils.h>
 
-#include "sl_obstacle/ObstacleStatus.h"
+#include "sl_msgs/ObstacleStatus.h"
 
 namespace
 {
-using sl_obstacle::ObstacleStatus;
+using sl_msgs::ObstacleStatus;
 
 class Observer
 {

@@ -18,7 +18,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sl_msgs/NavigationStatus.h>
-#include <sl_obstacle/ObstacleStatus.h>
+#include <sl_msgs/ObstacleStatus.h>
 #include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
@@ -37,7 +37,7 @@ class NavigationNodelet : public nodelet::Nodelet
 private:
   void onInit() override;
   void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg);
-  void onFilter(const sl_obstacle::ObstacleStatus::ConstPtr& msg);
+  void onFilter(const sl_msgs::ObstacleStatus::ConstPtr& msg);
   void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& msg);
   void onActionGoal();
   void onActionPreempt();
@@ -120,7 +120,7 @@ void NavigationNodelet::onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg)
   }
 }
 
-void NavigationNodelet::onFilter(const sl_obstacle::ObstacleStatus::ConstPtr& msg)
+void NavigationNodelet::onFilter(const sl_msgs::ObstacleStatus::ConstPtr& msg)
 {
   // Only the filter's answers to commands on cmd_vel_in (teleop) that it scaled down count.
   std::lock_guard<std::mutex> lock(mutex_);

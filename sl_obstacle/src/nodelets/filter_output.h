@@ -3,11 +3,13 @@
 
 #include <visualization_msgs/Marker.h>
 
-#include "sl_obstacle/ObstacleStatus.h"
+#include "sl_msgs/ObstacleStatus.h"
 #include "sl_obstacle/safety_filter.h"
 
 namespace sl_obstacle
 {
+using sl_msgs::ObstacleStatus;  // the status message lives in sl_msgs (shared with the tests and tools)
+
 /// A geometry_msgs::Point (for marker vertices).
 geometry_msgs::Point point(double x, double y, double z);
 

@@ -39,7 +39,7 @@
 #include "filter_output.h"
 #include "params.h"
 #include "status_codes.h"
-#include "sl_obstacle/ObstacleStatus.h"
+#include "sl_msgs/ObstacleStatus.h"
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/safety_filter.h"
 #include "sl_obstacle/velocity_goal.h"

@@ -5,14 +5,14 @@
 
 #include <cstdint>
 
-#include "sl_obstacle/ObstacleStatus.h"
+#include "sl_msgs/ObstacleStatus.h"
 #include "sl_obstacle/decision_maker.h"
 
 namespace sl_obstacle
 {
 namespace status_codes
 {
-using S = ObstacleStatus;
+using S = sl_msgs::ObstacleStatus;
 
 /// True when the enum value equals the message constant.
 template <typename E>

@@ -27,11 +27,18 @@
 #include "sl_decoder/DecoderParamsConfig.h"
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
+#include "sl_msgs/ray_ends.h"
 #include "sl_params/params.h"
 #include "sl_projector/ros/rig_param.h"
 
 namespace sl_decoder
 {
+// The core's ray states are the wire values of the ray_ends cloud.
+static_assert(static_cast<int>(RayState::Decoded) == sl_msgs::ray_ends::DECODED, "RayState::Decoded");
+static_assert(static_cast<int>(RayState::Floor) == sl_msgs::ray_ends::FLOOR, "RayState::Floor");
+static_assert(static_cast<int>(RayState::Dark) == sl_msgs::ray_ends::DARK, "RayState::Dark");
+static_assert(static_cast<int>(RayState::Lit) == sl_msgs::ray_ends::LIT, "RayState::Lit");
+static_assert(static_cast<int>(RayState::Unseen) == sl_msgs::ray_ends::UNSEEN, "RayState::Unseen");
 
 namespace
 {
@@ -406,7 +413,8 @@ private:
     sensor_msgs::PointCloud2& cloud = *cloud_ptr;
     cloud.header.stamp = image_header.stamp;
     cloud.header.frame_id = params_.target_frame;
-    // Explicit offsets keep the uint16 fields aligned: 6 floats, state at 24, row at 26, col at 28.
+    // The layout of sl_msgs/ray_ends.h: 6 floats, the state, the pattern row and column.
+    namespace re = sl_msgs::ray_ends;
     auto field = [&cloud](const char* name, uint32_t offset, uint8_t type)
     {
       sensor_msgs::PointField f;
@@ -419,10 +427,10 @@ private:
     const char* names[6] = { "x", "y", "z", "sx", "sy", "sz" };
     for (uint32_t k = 0; k < 6; ++k)
       field(names[k], 4 * k, sensor_msgs::PointField::FLOAT32);
-    field("state", 24, sensor_msgs::PointField::UINT8);
-    field("row", 26, sensor_msgs::PointField::UINT16);
-    field("col", 28, sensor_msgs::PointField::UINT16);
-    cloud.point_step = 32;
+    field("state", re::kStateOffset, sensor_msgs::PointField::UINT8);
+    field("row", re::kRowOffset, sensor_msgs::PointField::UINT16);
+    field("col", re::kColOffset, sensor_msgs::PointField::UINT16);
+    cloud.point_step = re::kPointStep;
     const size_t n = outcomes_.size();
     const size_t count = n - static_cast<size_t>(rays_->lastCount(RayState::Decoded));
     cloud.height = 1;
@@ -437,16 +445,19 @@ private:
       const RayOutcome& o = outcomes_[i];
       if (o.state == RayState::Decoded)
         continue;
-      float xyz[6];
       const Eigen::Vector3f end = (to_target * o.end.cast<double>()).cast<float>();
       const Eigen::Vector3f start = (to_target * o.start.cast<double>()).cast<float>();
-      std::copy(end.data(), end.data() + 3, xyz);
-      std::copy(start.data(), start.data() + 3, xyz + 3);
-      std::memcpy(out, xyz, sizeof(xyz));
-      out[24] = static_cast<uint8_t>(o.state);
-      const uint16_t rc[2] = { static_cast<uint16_t>(i / static_cast<size_t>(cols)),
-                               static_cast<uint16_t>(i % static_cast<size_t>(cols)) };
-      std::memcpy(out + 26, rc, sizeof(rc));
+      re::Point point{};
+      point.x = end.x();
+      point.y = end.y();
+      point.z = end.z();
+      point.sx = start.x();
+      point.sy = start.y();
+      point.sz = start.z();
+      point.state = static_cast<uint8_t>(o.state);
+      point.row = static_cast<uint16_t>(i / static_cast<size_t>(cols));
+      point.col = static_cast<uint16_t>(i % static_cast<size_t>(cols));
+      std::memcpy(out, &point, sizeof(point));
       out += cloud.point_step;
     }
     rays_pub_.publish(cloud_ptr);

@@ -7,6 +7,7 @@
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include "sl_msgs/ray_ends.h"
 #include "sl_obstacle/local_map.h"
 #include "sl_obstacle/point.h"
 
@@ -19,8 +20,10 @@ namespace sl_obstacle
 std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform,
                          std::vector<Point>& points);
 
-/// Ray states of sl_decoder's `ray_ends` cloud (field `state`, UINT8).
-constexpr std::uint8_t kRayDecoded = 0, kRayFloor = 1, kRayDark = 2, kRayLit = 3, kRayUnseen = 4;
+/// Ray states of sl_decoder's `ray_ends` cloud (field `state`, UINT8), as sl_msgs/ray_ends.h defines them.
+constexpr std::uint8_t kRayDecoded = sl_msgs::ray_ends::DECODED, kRayFloor = sl_msgs::ray_ends::FLOOR,
+                       kRayDark = sl_msgs::ray_ends::DARK, kRayLit = sl_msgs::ray_ends::LIT,
+                       kRayUnseen = sl_msgs::ray_ends::UNSEEN;
 
 /// Appends the rays of one of the decoder's clouds to @p rays, transformed by @p transform (cloud
 /// frame -> map frame). Every point needs x, y, z (the ray's end) and sx, sy, sz (the start of its

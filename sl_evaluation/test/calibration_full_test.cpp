@@ -1,5 +1,5 @@
 // Full calibration on rendered views: the round trip in simulation (render the checkerboard and
-// pattern views, calibrate, compare with the true rig) with the floors, from the true and a
+// pattern views, calibrate, compare with the true rig) with the required accuracy, from the true and a
 // rough rig, known camera with known-distance planes, and the errors for bad images. The projector
 // fit on synthetic correspondences and the camera_info files are in sl_calibration_test.
 #include <gtest/gtest.h>
@@ -67,7 +67,7 @@ void checkFloors(const FullCalibrationResult& r, const SimViews& v)
   std::cout << r.summary();
   const RigComparison c = compareRigs(r.rig, trueRig());
   std::cout << c.summary();
-  // The floors (simulation, default noise).
+  // The required accuracy (simulation, default noise).
   EXPECT_LT(std::abs(c.camera_fx_percent), 0.5);
   EXPECT_LT(std::abs(c.camera_fy_percent), 0.5);
   EXPECT_LT(std::abs(c.camera_cx_px), 2.0);

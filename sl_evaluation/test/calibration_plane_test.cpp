@@ -1,6 +1,6 @@
 // Plane calibration on rendered views: the simulated wall agreeing with the plane definition, the
 // round trip in simulation (render the wall at known distances, calibrate, evaluate on distances not
-// used) with the floors, and a rough rig identified by the code. The fits and the errors
+// used) with the required accuracy, and a rough rig identified by the code. The fits and the errors
 // for bad input without images are in sl_calibration_test.
 #include <gtest/gtest.h>
 

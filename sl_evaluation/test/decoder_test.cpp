@@ -67,8 +67,8 @@ void expectFloors(const EvalStats& s, const Floors& f, const std::string& what)
 }
 }  // namespace
 
-// Default simulator settings, full triangulation. The floors (97 % valid, 1 mm mean on the
-// 700 mm plane) are far below what is reached: the doc/results.md's figures are asserted instead.
+// Default simulator settings, full triangulation. The requirement (97 % valid, 1 mm mean on the
+// 700 mm plane) is far below what is reached: the doc/results.md's figures are asserted instead.
 TEST(Decoder, PlaneAt700mm)
 {
   const EvalStats s = run(defaultRig(), { "plane_700" }, 3);

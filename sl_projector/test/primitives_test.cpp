@@ -15,7 +15,7 @@ constexpr int kSuper = 8;  // supersampling of one projector pixel
 
 /// Projector cell (shape centred with one pixel of background around it, 7 x 11 px) seen through
 /// a blur of @p sigma projector px and resampled to @p scale camera px per projector px (0.5 is
-/// the 2x down-sampling of the issue), the shape shifted by (dx, dy) projector px.
+/// a 2x down-sampling), the shape shifted by (dx, dy) projector px.
 cv::Mat observe(int value, double dx, double dy, double sigma, double scale)
 {
   cv::Mat cell(11, 7, CV_32F, cv::Scalar(0));
@@ -120,7 +120,7 @@ TEST(Primitives, OtherSizesStayConnected)
   EXPECT_THROW(shapeBitmap(1, 2, 9), std::invalid_argument);
 }
 
-// The issue's criterion: blur sigma 1 px, then 2x down-sampling; every shape is then compared with
+// The criterion: blur sigma 1 px, then 2x down-sampling; every shape is then compared with
 // the others on the same cell window. A shape correlates with itself at 1 by construction; the
 // margin to the best other shape must stay large.
 TEST(Primitives, DistinctAfterBlurAndDownSampling)
@@ -136,7 +136,7 @@ TEST(Primitives, DistinctAfterBlurAndDownSampling)
 // of the working range (1.5 to 3 camera px per projector px) with defocus blur up to 1.5 projector
 // px. The margin (right template minus best wrong one) must stay above 0.3: sensor noise at the
 // simulator's default settings moves a blob's NCC by a few hundredths, an order of magnitude less.
-// Even at the issue's harsh 2x down-sampling (a primitive only 2.5 x 4.5 px) the right template
+// Even at a harsh 2x down-sampling (a primitive only 2.5 x 4.5 px) the right template
 // must still win everywhere.
 TEST(Primitives, DecoderMatchingMarginAcrossBlurAndPhase)
 {

@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,7 @@
 #include "params.h"
 #include "status_codes.h"
 #include "sl_msgs/ObstacleStatus.h"
+#include "sl_obstacle/cloud_pairing.h"
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/safety_filter.h"
 #include "sl_obstacle/velocity_goal.h"
@@ -104,8 +106,7 @@ private:
   VelocityGoal velocity_goal_;
   std::vector<Point> points_;
   std::unique_ptr<WorldModel> world_;  // null without ~use_map
-  Cloud::ConstPtr last_points_;        // the latest decoded points, for the map's Hit rays
-  Cloud::ConstPtr pending_rays_;       // ray ends that came before the points of their image
+  CloudPairing<Cloud::ConstPtr, ros::Time> pairing_;  // each image's ray ends with its points
   double cloud_contact_ = 0.0;         // the latest cloud's obstacle: travel until the disc touches it
   std::vector<MapRay> rays_;
   Pose2D pose_;
@@ -350,7 +351,6 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   }
   have_frame_ = true;
   last_cloud_stamp_ = cloud->header.stamp;
-  last_points_ = cloud;
   const VolumeResult& result = checker_->analyze(points_);
   cloud_contact_ = contactTravel(points_, result.obstacle_indices, params_.settings.world.footprint.radius);
   if (filter_)
@@ -367,11 +367,9 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
     publishMarkers(cloud->header.stamp);
   }
   // After the stop decision: ray ends of this image that came first go into the map now.
-  if (pending_rays_ && pending_rays_->header.stamp <= cloud->header.stamp)
+  if (const auto in = pairing_.onPoints(cloud, cloud->header.stamp))
   {
-    const Cloud::ConstPtr rays = pending_rays_;
-    pending_rays_.reset();
-    insertRays(rays, rays->header.stamp == cloud->header.stamp ? cloud : Cloud::ConstPtr());
+    insertRays(in->rays, in->points.value_or(Cloud::ConstPtr()));
   }
 }
 
@@ -386,14 +384,16 @@ void ObstacleNodelet::onRays(const Cloud::ConstPtr& cloud)
   // The decoded points of the same image carry the rays that reached a surface. They come on
   // another topic and may arrive later (another connection, the points' own processing): then the
   // ray ends wait for them, one image at most.
-  if (!last_points_ || last_points_->header.stamp < cloud->header.stamp)
+  std::optional<Cloud::ConstPtr> older;
+  const auto in = pairing_.onRays(cloud, cloud->header.stamp, older);
+  if (older)
   {
-    if (pending_rays_)
-      insertRays(pending_rays_, Cloud::ConstPtr());  // its points never came (gated, dropped)
-    pending_rays_ = cloud;
-    return;
+    insertRays(*older, Cloud::ConstPtr());  // its points never came (gated, dropped)
   }
-  insertRays(cloud, last_points_->header.stamp == cloud->header.stamp ? last_points_ : Cloud::ConstPtr());
+  if (in)
+  {
+    insertRays(in->rays, in->points.value_or(Cloud::ConstPtr()));
+  }
 }
 
 void ObstacleNodelet::insertRays(const Cloud::ConstPtr& rays, const Cloud::ConstPtr& points)

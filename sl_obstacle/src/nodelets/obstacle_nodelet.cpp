@@ -44,6 +44,7 @@
 #include "sl_obstacle/cloud_pairing.h"
 #include "sl_obstacle/decision_maker.h"
 #include "sl_obstacle/safety_filter.h"
+#include "sl_obstacle/teleop_arbiter.h"
 #include "sl_obstacle/velocity_goal.h"
 #include "sl_obstacle/volume_checker.h"
 #include "sl_obstacle/world_model.h"
@@ -156,8 +157,7 @@ private:
   geometry_msgs::Twist command_;
   ros::Time command_time_;
   bool have_command_ = false;
-  ros::Time teleop_until_;
-  bool teleop_active_ = false;
+  TeleopArbiter teleop_;  // cmd_vel_in or autonomy
   std::vector<Point2> obstacles_edge_;  // the latest cloud's accepted obstacle points in ~target_frame
   ros::Time obstacles_stamp_;
   bool obstacles_pending_ = false;       // obstacles_edge_ not yet in odom (tf not there yet)
@@ -190,6 +190,7 @@ void ObstacleNodelet::onInit()
     throw;
   }
   config_ = params_.config;
+  teleop_ = TeleopArbiter(params_.command_mode == CommandMode::FILTER);
   checker_ = std::make_unique<VolumeChecker>(params_.settings.checker);
   decider_ = std::make_unique<DecisionMaker>(params_.settings.decision);
   status_.header.frame_id = params_.target_frame;
@@ -534,16 +535,12 @@ void ObstacleNodelet::takeCommand(const geometry_msgs::Twist& twist, const ros::
   command_ = twist;
   command_time_ = stamp;
   have_command_ = true;
-  if (params_.command_mode != CommandMode::FILTER)
+  if (teleop_.onCommand(now.toSec(), params_.settings.teleop_hold))
   {
-    if (!teleop_active_)
-    {
-      cancelGoal();
-      velocity_goal_.stop();
-      NODELET_INFO("cmd_vel_in takes over from autonomy (for %.1f s after the last command)",
-                   params_.settings.teleop_hold);
-    }
-    teleop_until_ = now + ros::Duration(params_.settings.teleop_hold);
+    cancelGoal();
+    velocity_goal_.stop();
+    NODELET_INFO("cmd_vel_in takes over from autonomy (for %.1f s after the last command)",
+                 params_.settings.teleop_hold);
   }
   decide(now);
 }
@@ -554,8 +551,9 @@ bool ObstacleNodelet::teleopActive(const ros::Time& now)
   {
     return false;
   }
-  const bool active = params_.command_mode == CommandMode::FILTER || (have_command_ && now < teleop_until_);
-  if (teleop_active_ && !active)
+  bool ended = false;
+  const bool active = teleop_.update(now.toSec(), ended);
+  if (ended)
   {
     decider_->reset();  // it plans anew from here: the robot moved under teleoperation
     if (moving_)
@@ -564,7 +562,6 @@ bool ObstacleNodelet::teleopActive(const ros::Time& now)
     }
     NODELET_INFO("cmd_vel_in quiet for %.1f s: autonomy resumes", params_.settings.teleop_hold);
   }
-  teleop_active_ = active;
   return active;
 }
 
@@ -927,7 +924,7 @@ void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
   using visualization_msgs::Marker;
   const VolumeResult& r = checker_->result();
   const WorkingVolume& v = params_.settings.checker.volume;
-  const bool blocked = teleop_active_ ? filter_out_.reason == FilterReason::STOPPED_OBSTACLE : decider_->last().blocked;
+  const bool blocked = teleop_.active() ? filter_out_.reason == FilterReason::STOPPED_OBSTACLE : decider_->last().blocked;
   markers_.markers.resize(6);
   for (Marker& m : markers_.markers)
   {
@@ -1024,7 +1021,7 @@ void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
   footprint.ns = "footprint";
   footprint.header.frame_id = params_.odom_frame;
   footprint.header.stamp = ros::Time::now();
-  footprint.action = teleop_active_ && localized_ ? Marker::ADD : Marker::DELETE;
+  footprint.action = teleop_.active() && localized_ ? Marker::ADD : Marker::DELETE;
   footprintMarker(filter_out_, pose_, params_.settings.filter.footprint.radius, footprint);
   for (Marker& m : markers_.markers)
   {

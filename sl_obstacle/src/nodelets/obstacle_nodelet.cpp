@@ -38,6 +38,7 @@
 
 #include "cloud_conversion.h"
 #include "filter_output.h"
+#include "goal_result.h"
 #include "params.h"
 #include "status_codes.h"
 #include "sl_msgs/ObstacleStatus.h"
@@ -753,57 +754,8 @@ void ObstacleNodelet::sendGoal(double distance, double speed)
           return;  // a goal we replaced or cancelled ourselves
         }
         goal_active_ = false;
-        GoalEnd end = GoalEnd::FAILED;
-        std::string what = "goal ended in state " + state.toString();
-        if (r)
-        {
-          using R = sl_msgs::DriveDistanceResult;
-          switch (r->reason)
-          {
-            case R::REACHED:
-              end = GoalEnd::REACHED;
-              what = "reached";
-              break;
-            case R::PREEMPTED:
-              end = GoalEnd::CANCELLED;
-              what = "pre-empted";
-              break;
-            case R::BUMPER:
-              end = GoalEnd::HAZARD;
-              what = "bumper";
-              break;
-            case R::CLIFF:
-              end = GoalEnd::HAZARD;
-              what = "cliff";
-              break;
-            case R::WHEEL_DROP:
-              end = GoalEnd::HAZARD;
-              what = "wheel drop";
-              break;
-            case R::TIMEOUT:
-              end = GoalEnd::FAILED;
-              what = "timeout";
-              break;
-            case R::DISCONNECTED:
-              end = GoalEnd::FAILED;
-              what = "disconnected";
-              break;
-            case R::INVALID_GOAL:
-              end = GoalEnd::FAILED;
-              what = "invalid goal";
-              break;
-            case R::HEARTBEAT_LOST:
-              end = GoalEnd::FAILED;
-              what = "heartbeat lost";
-              break;
-            default:
-              break;
-          }
-          if (!r->message.empty())
-          {
-            what += ": " + r->message;
-          }
-        }
+        std::string what;
+        const GoalEnd end = goalEnd(r.get(), state.toString(), what);
         if (end == GoalEnd::FAILED)
         {
           NODELET_WARN_THROTTLE(5.0, "drive_distance goal failed (%s)", what.c_str());

@@ -9,6 +9,30 @@
 
 namespace sl_obstacle
 {
+void toParent(const std::vector<Point2>& points, const Pose2D& frame, std::vector<Point2>& out)
+{
+  const double c = std::cos(frame.yaw);
+  const double s = std::sin(frame.yaw);
+  out.clear();
+  for (const Point2& p : points)
+  {
+    out.push_back(Point2{ frame.x + c * p.x - s * p.y, frame.y + s * p.x + c * p.y });
+  }
+}
+
+void toChild(const std::vector<Point2>& points, const Pose2D& frame, std::vector<Point2>& out)
+{
+  const double c = std::cos(frame.yaw);
+  const double s = std::sin(frame.yaw);
+  out.clear();
+  for (const Point2& p : points)
+  {
+    const double dx = p.x - frame.x;
+    const double dy = p.y - frame.y;
+    out.push_back(Point2{ c * dx + s * dy, -s * dx + c * dy });
+  }
+}
+
 namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();

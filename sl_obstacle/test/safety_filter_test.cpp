@@ -450,3 +450,28 @@ TEST(SafetyFilter, BadParametersAreNamed)
 }
 }  // namespace
 }  // namespace sl_obstacle
+
+namespace sl_obstacle
+{
+TEST(Frames2D, ToParentAndToChildAreInverses)
+{
+  const Pose2D frame{ 1.0, -2.0, 0.5 * M_PI };  // x, y, yaw: the child's x axis along the parent's y
+  const std::vector<Point2> child = { { 1.0, 0.0 }, { 0.0, 2.0 }, { -0.5, 0.25 } };
+  std::vector<Point2> parent, back;
+  toParent(child, frame, parent);
+  ASSERT_EQ(parent.size(), 3U);
+  EXPECT_NEAR(parent[0].x, 1.0, 1e-12);  // 1 m ahead of the frame: +y in the parent
+  EXPECT_NEAR(parent[0].y, -1.0, 1e-12);
+  EXPECT_NEAR(parent[1].x, -1.0, 1e-12);  // 2 m to its left: -x in the parent
+  EXPECT_NEAR(parent[1].y, -2.0, 1e-12);
+  toChild(parent, frame, back);
+  ASSERT_EQ(back.size(), 3U);
+  for (std::size_t i = 0; i < child.size(); ++i)
+  {
+    EXPECT_NEAR(back[i].x, child[i].x, 1e-12) << i;
+    EXPECT_NEAR(back[i].y, child[i].y, 1e-12) << i;
+  }
+  toParent({}, frame, parent);
+  EXPECT_TRUE(parent.empty()) << "the output holds only this call's points";
+}
+}  // namespace sl_obstacle

@@ -22,6 +22,14 @@ struct Point2
   double y = 0.0;
 };
 
+/// @p points given in the frame whose pose in the parent frame is @p frame, into the parent frame
+/// (written to @p out, which keeps its capacity).
+void toParent(const std::vector<Point2>& points, const Pose2D& frame, std::vector<Point2>& out);
+
+/// @p points given in the parent frame, into the frame whose pose there is @p frame (the inverse of
+/// toParent(); written to @p out, which keeps its capacity).
+void toChild(const std::vector<Point2>& points, const Pose2D& frame, std::vector<Point2>& out);
+
 /// A velocity command: forward speed (m/s, negative backwards) and turn rate (rad/s, positive left).
 struct Velocity
 {

@@ -496,15 +496,11 @@ void ObstacleNodelet::resolveObstacles(const ros::Time& now)
     }
     return;
   }
-  const double yaw = tf2::getYaw(t.transform.rotation);
-  const double c = std::cos(yaw);
-  const double s = std::sin(yaw);
-  obstacles_odom_.clear();
-  for (const Point2& p : obstacles_edge_)
-  {
-    obstacles_odom_.push_back(
-        Point2{ t.transform.translation.x + c * p.x - s * p.y, t.transform.translation.y + s * p.x + c * p.y });
-  }
+  Pose2D edge;  // ~target_frame in odom at the cloud's stamp
+  edge.x = t.transform.translation.x;
+  edge.y = t.transform.translation.y;
+  edge.yaw = tf2::getYaw(t.transform.rotation);
+  toParent(obstacles_edge_, edge, obstacles_odom_);
   obstacles_pending_ = false;
 }
 
@@ -577,15 +573,7 @@ void ObstacleNodelet::filterStep(const ros::Time& now)
   in.cloud_time = have_frame_ ? last_cloud_stamp_.toSec() : -std::numeric_limits<double>::infinity();
   // The cloud's obstacles (static) seen from where the robot is now.
   resolveObstacles(now);
-  const double c = std::cos(pose_.yaw);
-  const double s = std::sin(pose_.yaw);
-  obstacles_robot_.clear();
-  for (const Point2& p : obstacles_odom_)
-  {
-    const double dx = p.x - pose_.x;
-    const double dy = p.y - pose_.y;
-    obstacles_robot_.push_back(Point2{ c * dx + s * dy, -s * dx + c * dy });
-  }
+  toChild(obstacles_odom_, pose_, obstacles_robot_);
   in.obstacles = &obstacles_robot_;
   filter_out_ = filter_->filter(world_->map(), in);
   const Velocity& v = filter_out_.command;

@@ -40,8 +40,8 @@
 #include "filter_output.h"
 #include "goal_result.h"
 #include "markers.h"
+#include "status.h"
 #include "params.h"
-#include "status_codes.h"
 #include "sl_msgs/ObstacleStatus.h"
 #include "sl_obstacle/cloud_pairing.h"
 #include "sl_obstacle/decision_maker.h"
@@ -803,41 +803,13 @@ void ObstacleNodelet::publishStatus(const Decision* d, const ros::Time& now)
     s.data_age = std::numeric_limits<double>::infinity();
   }
   s.map_stamp = map_stamp_;
-  const VolumeResult& r = checker_->result();
-  s.nearest_distance = have_frame_ ? r.nearest_distance : std::numeric_limits<double>::infinity();
-  s.nearest_point.x = r.nearest_point.x;
-  s.nearest_point.y = r.nearest_point.y;
-  s.nearest_point.z = r.nearest_point.z;
-  s.free_distance = have_frame_ ? r.free_distance : 0.0;
-  s.sector_free_distance.resize(r.sectors.size());
-  for (std::size_t i = 0; i < r.sectors.size(); ++i)
-  {
-    s.sector_free_distance[i] = have_frame_ ? static_cast<float>(r.sectors[i].free_distance) : 0.0F;
-  }
-  s.points_in_box = r.in_box_points;
-  s.obstacle_points = r.obstacle_points;
-  s.invalid_points = r.invalid_points;
-  s.coverage = static_cast<float>(have_frame_ ? r.coverage : 0.0);
+  fillCloudStatus(checker_->result(), have_frame_, s);
   const FrameSummary& f = decider_->frame();
   const bool mapped = world_ && f.from_map;
-  s.map_free_distance = mapped ? f.free_distance : 0.0;
-  s.map_obstacle_distance = mapped ? world_->last().obstacle : std::numeric_limits<double>::infinity();
-  s.map_known_fraction = static_cast<float>(mapped ? f.coverage : 0.0);
-  s.reverse_free_distance = mapped ? f.reverse_free : 0.0;
-  s.best_turn = mapped ? f.best_turn : 0.0;
+  fillMapStatus(f, mapped, mapped ? world_->last().obstacle : 0.0, s);
   if (d != nullptr)
   {
-    s.state = static_cast<uint8_t>(d->state);
-    s.reason_code = static_cast<uint8_t>(d->reason);
-    s.reason = d->text;
-    s.blocked = d->blocked;
-    s.teleop = false;
-    s.input_linear = s.input_angular = 0.0;
-    s.command_scale = 1.0;
-    s.command = static_cast<uint8_t>(d->command);
-    s.command_distance = d->distance;
-    s.command_speed = d->speed;
-    s.command_angular_speed = d->angular_speed;
+    fillDecisionStatus(*d, s);
   }
   else
   {

@@ -1,5 +1,5 @@
 /// @file status_codes.h
-/// @brief Compile-time ties between the core's enums and the ObstacleStatus constants: the nodelet
+/// @brief Compile-time ties between the core's enums and the ObstacleStatus constants: status.cpp
 /// copies the enum values onto the wire, so a change on either side must fail the build.
 #pragma once
 

@@ -27,6 +27,7 @@
 #include "create_driver/Mode.h"
 #include "create_driver/driver_core.h"
 #include "create_driver/serial_link.h"
+#include "driver_diagnostics.h"
 #include "sl_params/params.h"
 
 namespace create_driver
@@ -72,21 +73,6 @@ uint8_t linkStateToMsg(LinkState s)
   return Mode::LINK_DISCONNECTED;
 }
 
-const char* reportedModeName(int mode)
-{
-  if (mode < 0 || mode > 3)
-    return "unknown";
-  return oiModeName(static_cast<OiMode>(mode));
-}
-
-// Summary of a diagnostic that is either fine or worth a warning.
-void summarizeOkOrWarn(diagnostic_updater::DiagnosticStatusWrapper& st, bool warn, const std::string& warning)
-{
-  if (warn)
-    st.summary(diagnostic_msgs::DiagnosticStatus::WARN, warning);
-  else
-    st.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
-}
 }  // namespace
 
 /// @brief Nodelet create_driver/driver (see README.md for its ROS interface).
@@ -620,25 +606,9 @@ private:
 
   void diagConnection(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
-    const SerialLinkStats ls = link_->stats();
-    if (ls.state == LinkState::RUNNING)
-      st.summary(diagnostic_msgs::DiagnosticStatus::OK, "connected");
-    else if (ls.state == LinkState::DISCONNECTED)
-      st.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "disconnected: " + ls.last_error);
-    else
-      st.summary(diagnostic_msgs::DiagnosticStatus::WARN, linkStateName(ls.state));
-    st.add("port", link_params_.port);
-    st.add("baud", link_params_.baud);
-    st.add("model", model_name_);
-    st.add("state", linkStateName(ls.state));
-    st.add("connects", ls.connects);
-    st.add("disconnects", ls.disconnects);
-    st.add("failed attempts", ls.failed_attempts);
-    st.add("last error", ls.last_error);
-    st.add("next backoff (s)", ls.backoff);
-    st.add("bytes read", ls.bytes_read);
-    st.add("bytes written", ls.bytes_written);
+    connectionStatus(link_->stats(), link_params_, model_name_, st);
   }
+
 
   void diagStream(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
@@ -656,15 +626,9 @@ private:
     last_diag_time_ = now;
     last_valid_frames_ = c.valid_frames;
     last_corrupt_frames_ = c.corrupt_frames;
-    summarizeOkOrWarn(st, new_corrupt, "corrupt frames on the line");
-    st.add("valid frames", c.valid_frames);
-    st.add("corrupt frames", c.corrupt_frames);
-    st.add("total frames", c.totalFrames());
-    st.add("resyncs", c.resyncs);
-    st.add("discarded bytes", c.discarded_bytes);
-    st.add("frames estimated", estimated);
-    st.add("frame rate (Hz)", rate);
+    streamStatus(c, estimated, rate, new_corrupt, st);
   }
+
 
   void diagControl(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
@@ -676,29 +640,17 @@ private:
     }
     const bool new_overruns = ls.overruns > last_overruns_;
     last_overruns_ = ls.overruns;
-    summarizeOkOrWarn(st, new_overruns, "control loop overruns");
-    st.add("loop ticks", ls.ticks);
-    st.add("loop overruns", ls.overruns);
-    st.add("max lateness (s)", ls.max_lateness);
-    st.add("commands sent", ds.commands_sent);
-    st.add("rejected commands", ds.rejected_commands);
-    st.add("watchdog stops", ds.watchdog_stops);
-    st.add("start sequences", ds.start_sequences);
+    controlStatus(ls, ds, new_overruns, st);
   }
+
 
   void diagSafety(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const HazardLatch& l = core_->latch();
-    const int reported = core_->reportedMode();
-    summarizeOkOrWarn(st, l.latched(), std::string("hazard latched: ") + hazardName(l.reason()));
-    st.add("latched", l.latched());
-    st.add("latch reason", hazardName(l.reason()));
-    st.add("hazard stops", core_->stats().hazard_stops);
-    st.add("mode reported", reportedModeName(reported));
-    st.add("mode requested", oiModeName(config_.mode));
-    st.add("mode re-assertions", core_->stats().mode_reasserts);
+    safetyStatus(l.latched(), l.reason(), core_->stats(), core_->reportedMode(), config_.mode, st);
   }
+
 
   void diagCommands(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
@@ -711,15 +663,9 @@ private:
       age = core_->commandAge(steadyNow());
       ds = core_->stats();
     }
-    if (!lost.empty())
-      st.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "robot stopped: " + lost);
-    else
-      st.summary(diagnostic_msgs::DiagnosticStatus::OK, age < 0.0 ? "no command yet" : "ok");
-    st.add("command_timeout (s)", config_.command_timeout);
-    st.add("newest command age (s)", age);
-    st.add("cmd_vel watchdog stops", ds.watchdog_stops);
-    st.add("heartbeat stops", ds.heartbeat_stops);
+    commandsStatus(lost, age, config_.command_timeout, ds, st);
   }
+
 
   void diagBattery(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
@@ -730,22 +676,9 @@ private:
       s = core_->sensors();
       have = core_->parserCounters().valid_frames > 0;
     }
-    if (!have)
-    {
-      st.summary(diagnostic_msgs::DiagnosticStatus::STALE, "no data");
-      return;
-    }
-    const double cap = s.get(packet::BATTERY_CAPACITY);
-    const double pct = cap > 0 ? 100.0 * s.get(packet::BATTERY_CHARGE) / cap : 0.0;
-    summarizeOkOrWarn(st, pct < 15.0, "battery low");
-    st.add("voltage (V)", s.get(packet::VOLTAGE) / 1000.0);
-    st.add("current (A)", s.get(packet::CURRENT) / 1000.0);
-    st.add("charge (Ah)", s.get(packet::BATTERY_CHARGE) / 1000.0);
-    st.add("capacity (Ah)", cap / 1000.0);
-    st.add("percentage", pct);
-    st.add("temperature (C)", s.get(packet::TEMPERATURE));
-    st.add("charging state", s.get(packet::CHARGING_STATE));
+    batteryStatus(s, have, st);
   }
+
 
   // Configuration.
   DriverConfig config_;

@@ -147,8 +147,8 @@ protected:
 
   /// The @p motion last seen at @p last (last_move_ or last_turn_, read under the lock) ended after
   /// @p since (when @p cause happened), and the filter's status gives @p reason_code. The time it
-  /// took is printed next to @p timeout (the parameter @p param); the bound asserted, timeout + 1 s (the waits after the cause are longer),
-  /// only tells a stop from none: on a shared machine the messages' latency is not the filter's.
+  /// took is printed next to @p timeout (the parameter @p param); the bound asserted, timeout + 1 s (the waits after
+  /// the cause are longer), only tells a stop from none: on a shared machine the messages' latency is not the filter's.
   void expectEndedWithin(const ros::Time& last, const ros::Time& since, const char* motion, const char* cause,
                          const char* param, double timeout, std::uint8_t reason_code)
   {

@@ -118,11 +118,13 @@ TEST_F(Navigate, ReachesEveryReachableGoalAndRefusesTheOthers)
   ros::Subscriber nav_sub = node_.subscribe<sl_msgs::NavigationStatus>(
       "navigation_status", 50, [this](const sl_msgs::NavigationStatus::ConstPtr& m) { onNavStatus(*m); });
   ros::Publisher simple = node_.advertise<geometry_msgs::PoseStamped>("move_base_simple/goal", 1, true);
-  auto client_owner = std::make_unique<actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>>("move_base", true);
+  auto client_owner =
+      std::make_unique<actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>>("move_base", true);
   auto& client = *client_owner;
   ASSERT_TRUE(client.waitForServer(ros::Duration(60.0))) << "no move_base action server";
   ASSERT_TRUE(sl_testing::waitUntil(
-      [&] {
+      [&]
+      {
         std::lock_guard<std::mutex> lock(mutex_);
         return nav_messages_ > 0 && have_pose_;
       },
@@ -142,7 +144,8 @@ TEST_F(Navigate, ReachesEveryReachableGoalAndRefusesTheOthers)
     {
       simple.publish(goalPose(g));  // as rviz's "2D Nav Goal" does
       const bool ended = sl_testing::waitUntil(
-          [&] {
+          [&]
+          {
             std::lock_guard<std::mutex> lock(mutex_);
             return nav_.state != sl_msgs::NavigationStatus::ACTIVE && nav_.state != sl_msgs::NavigationStatus::IDLE &&
                    nav_.header.stamp > start + ros::Duration(0.3);
@@ -171,10 +174,11 @@ TEST_F(Navigate, ReachesEveryReachableGoalAndRefusesTheOthers)
     std::lock_guard<std::mutex> lock(mutex_);
     counting_ = false;
     const double off = std::hypot(pose_.position.x - g.x, pose_.position.y - g.y);
-    std::printf("navigate goal %zu (%.2f, %.2f) %s: %s after %.1f s, path %.2f m, %.2f m/s while moving, %.3f m "
-                "from the goal: %s\n",
-                i, g.x, g.y, g.reachable ? "reachable" : "unreachable", succeeded ? "SUCCEEDED" : "not reached",
-                elapsed, path_, moving_time_ > 0.0 ? path_ / moving_time_ : 0.0, off, why.c_str());
+    std::printf(
+        "navigate goal %zu (%.2f, %.2f) %s: %s after %.1f s, path %.2f m, %.2f m/s while moving, %.3f m "
+        "from the goal: %s\n",
+        i, g.x, g.y, g.reachable ? "reachable" : "unreachable", succeeded ? "SUCCEEDED" : "not reached", elapsed, path_,
+        moving_time_ > 0.0 ? path_ / moving_time_ : 0.0, off, why.c_str());
     if (g.reachable)
     {
       ++reachable;

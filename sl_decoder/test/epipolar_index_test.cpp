@@ -56,8 +56,8 @@ TEST(EpipolarIndex, EveryPrimitiveIsACandidateAlongItsWholeSegment)
         const int32_t *begin, *end;
         index.candidates(static_cast<float>(q.x()), static_cast<float>(q.y()), begin, end);
         ASSERT_TRUE(contains(begin, end, id)) << "primitive " << row << "," << col << " at z " << z;
-        index.candidates(static_cast<float>(q.x()), static_cast<float>(q.y()), pattern.array().value(row, col),
-                         begin, end);
+        index.candidates(static_cast<float>(q.x()), static_cast<float>(q.y()), pattern.array().value(row, col), begin,
+                         end);
         ASSERT_TRUE(contains(begin, end, id)) << "primitive " << row << "," << col << " at z " << z << " by shape";
         ++checked;
       }

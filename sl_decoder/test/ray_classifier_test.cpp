@@ -138,9 +138,9 @@ TEST(RayClassifier, RefusesBadImagesAndConfigs)
   std::vector<RayOutcome> outcomes;
   const DecodeResult result;
   EXPECT_THROW(rays.classify(cv::Mat(10, 10, CV_8UC1, cv::Scalar(0)), result, outcomes), std::invalid_argument);
-  EXPECT_THROW(rays.classify(cv::Mat(rig().camera.height, rig().camera.width, CV_16UC1, cv::Scalar(0)), result,
-                             outcomes),
-               std::invalid_argument);
+  EXPECT_THROW(
+      rays.classify(cv::Mat(rig().camera.height, rig().camera.width, CV_16UC1, cv::Scalar(0)), result, outcomes),
+      std::invalid_argument);
   RayConfig far;
   far.max_range = 10.0;  // beyond the decoder's max_depth
   EXPECT_THROW(RayClassifier(rig(), DecoderConfig(), far), std::invalid_argument);

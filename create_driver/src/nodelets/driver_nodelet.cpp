@@ -609,7 +609,6 @@ private:
     connectionStatus(link_->stats(), link_params_, model_name_, st);
   }
 
-
   void diagStream(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
     ParserCounters c;
@@ -629,7 +628,6 @@ private:
     streamStatus(c, estimated, rate, new_corrupt, st);
   }
 
-
   void diagControl(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
     const SerialLinkStats ls = link_->stats();
@@ -643,14 +641,12 @@ private:
     controlStatus(ls, ds, new_overruns, st);
   }
 
-
   void diagSafety(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const HazardLatch& l = core_->latch();
     safetyStatus(l.latched(), l.reason(), core_->stats(), core_->reportedMode(), config_.mode, st);
   }
-
 
   void diagCommands(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
@@ -666,7 +662,6 @@ private:
     commandsStatus(lost, age, config_.command_timeout, ds, st);
   }
 
-
   void diagBattery(diagnostic_updater::DiagnosticStatusWrapper& st)
   {
     SensorState s;
@@ -678,7 +673,6 @@ private:
     }
     batteryStatus(s, have, st);
   }
-
 
   // Configuration.
   DriverConfig config_;

@@ -5,7 +5,9 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <functional>
 #include <sstream>
+#include <utility>
 #include <thread>
 
 #include <ifaddrs.h>
@@ -129,6 +131,272 @@ struct TeardownState
   std::condition_variable done_cv;
   bool done = false;
 };
+/** One camera's settings applied through Aravis, each step warning (never failing) on what the
+ *  camera does not take. */
+class Configurer
+{
+public:
+  Configurer(ArvCamera* camera, std::string description, std::function<void(const std::string&)> warn)
+    : camera_(camera), device_(arv_camera_get_device(camera)), description_(std::move(description)), warn_(std::move(warn))
+  {
+  }
+
+  /** Mono8 when the camera offers it. */
+  void pixelFormat()
+  {
+    guint n = 0;
+    const char** formats = arv_camera_dup_available_pixel_formats_as_strings(camera_, &n, &error_);
+    bool has_mono8 = false;
+    for (guint i = 0; formats && i < n; ++i)
+      has_mono8 = has_mono8 || (formats[i] && std::string(formats[i]) == "Mono8");
+    g_free(formats);
+    takeError(error_);
+    if (has_mono8)
+    {
+      arv_camera_set_pixel_format(camera_, ARV_PIXEL_FORMAT_MONO_8, &error_);
+      note("cannot select Mono8");
+    }
+  }
+
+  /** The region of interest (negative offsets: centred on the sensor). */
+  void region(const SourceSettings& s)
+  {
+    if (s.width <= 0 && s.height <= 0)
+      return;
+    gint sensor_w = 0, sensor_h = 0, x = 0, y = 0, w = 0, h = 0;
+    arv_camera_get_sensor_size(camera_, &sensor_w, &sensor_h, &error_);
+    takeError(error_);
+    arv_camera_get_region(camera_, &x, &y, &w, &h, &error_);
+    takeError(error_);
+    const gint want_w = s.width > 0 ? s.width : w;
+    const gint want_h = s.height > 0 ? s.height : h;
+    gint want_x = std::max(0, s.offset_x), want_y = std::max(0, s.offset_y);
+    const bool offsets = arv_camera_is_region_offset_available(camera_, &error_);
+    takeError(error_);
+    if (offsets)
+    {
+      const gint inc_x = std::max(1, static_cast<int>(arv_camera_get_x_offset_increment(camera_, nullptr)));
+      const gint inc_y = std::max(1, static_cast<int>(arv_camera_get_y_offset_increment(camera_, nullptr)));
+      if (s.offset_x < 0)
+        want_x = sensor_w >= want_w ? (sensor_w - want_w) / 2 / inc_x * inc_x : 0;
+      if (s.offset_y < 0)
+        want_y = sensor_h >= want_h ? (sensor_h - want_h) / 2 / inc_y * inc_y : 0;
+    }
+    else if (s.offset_x > 0 || s.offset_y > 0)
+    {
+      warn_(description_ + ": the camera has no region offsets; offset_x and offset_y ignored");
+      want_x = want_y = 0;
+    }
+    arv_camera_set_region(camera_, want_x, want_y, want_w, want_h, &error_);
+    note("cannot set the region");
+    arv_camera_get_region(camera_, &x, &y, &w, &h, &error_);
+    takeError(error_);
+    if (w != want_w || h != want_h)
+    {
+      std::ostringstream msg;
+      msg << description_ << ": asked for " << want_w << " x " << want_h << " px, the camera delivers " << w << " x "
+          << h << " px";
+      warn_(msg.str());
+    }
+    if (offsets && (x != want_x || y != want_y))
+    {
+      std::ostringstream msg;
+      msg << description_ << ": asked for the region at offset " << want_x << ", " << want_y
+          << " px, the camera uses " << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
+      warn_(msg.str());
+    }
+  }
+
+  /** The frame rate (clamped to the camera's bounds); @return the rate the camera reports. */
+  double frameRate(double requested)
+  {
+    if (arv_camera_is_frame_rate_available(camera_, &error_))
+    {
+      double lo = 0.0, hi = 0.0;
+      arv_camera_get_frame_rate_bounds(camera_, &lo, &hi, &error_);
+      takeError(error_);
+      double rate = requested;
+      if (hi > lo && (rate < lo || rate > hi))
+      {
+        rate = std::min(std::max(rate, lo), hi);
+        std::ostringstream msg;
+        msg << description_ << ": frame rate " << requested << " Hz outside " << lo << ".." << hi << " Hz, using "
+            << rate;
+        warn_(msg.str());
+      }
+      arv_camera_set_frame_rate(camera_, rate, &error_);
+      note("cannot set the frame rate");
+    }
+    else
+    {
+      takeError(error_);
+      warn_(description_ + ": no frame rate control; the camera runs at its own rate");
+    }
+    const double actual = std::max(0.0, arv_camera_get_frame_rate(camera_, &error_));
+    takeError(error_);
+    return actual;
+  }
+
+  /** How one feature with an automatic mode is driven through Aravis (exposure, gain). */
+  struct AutoFeature
+  {
+    const char* name;        ///< "exposure"
+    const char* value_name;  ///< "the exposure time"
+    const char* control;     ///< "exposure time": "no exposure time control"
+    double scale;            ///< the camera's unit per the setting's (1e6: s -> us)
+    std::string unit;        ///< " s"
+    std::string note;        ///< added to a clamping warning
+    gboolean (*auto_available)(ArvCamera*, GError**);
+    void (*set_auto)(ArvCamera*, ArvAuto, GError**);
+    gboolean (*available)(ArvCamera*, GError**);
+    void (*bounds)(ArvCamera*, double*, double*, GError**);
+    void (*set)(ArvCamera*, double, GError**);
+  };
+
+  /** With @p fixed: automatic mode off and @p value (clamped to the bounds); else automatic mode on. */
+  void autoFeature(const AutoFeature& f, bool fixed, double value)
+  {
+    const bool has_auto = f.auto_available(camera_, &error_);
+    takeError(error_);
+    if (!fixed)
+    {
+      if (has_auto)
+      {
+        f.set_auto(camera_, ARV_AUTO_CONTINUOUS, &error_);
+        note(std::string("cannot switch ") + f.name + " auto on");
+      }
+      return;
+    }
+    if (has_auto)
+    {
+      f.set_auto(camera_, ARV_AUTO_OFF, &error_);
+      note(std::string("cannot switch ") + f.name + " auto off");
+    }
+    if (!f.available(camera_, &error_))
+    {
+      takeError(error_);
+      warn_(description_ + ": no " + f.control + " control; " + f.name + " ignored");
+      return;
+    }
+    double lo = 0.0, hi = 0.0;
+    f.bounds(camera_, &lo, &hi, &error_);
+    takeError(error_);
+    double v = value * f.scale;
+    if (hi > lo && (v < lo || v > hi))
+    {
+      v = std::min(std::max(v, lo), hi);
+      std::ostringstream msg;
+      msg << description_ << ": " << f.name << " " << value << f.unit << " outside " << lo / f.scale << ".."
+          << hi / f.scale << f.unit << f.note << ", using " << v / f.scale << f.unit;
+      warn_(msg.str());
+    }
+    f.set(camera_, v, &error_);
+    note(std::string("cannot set ") + f.value_name);
+  }
+
+  /** Exposure (GenICam ExposureTime is in us); 0 or less: automatic. */
+  void exposure(double seconds)
+  {
+    const AutoFeature f{ "exposure",
+                         "the exposure time",
+                         "exposure time",
+                         1e6,
+                         " s",
+                         "",
+                         arv_camera_is_exposure_auto_available,
+                         arv_camera_set_exposure_time_auto,
+                         arv_camera_is_exposure_time_available,
+                         arv_camera_get_exposure_time_bounds,
+                         arv_camera_set_exposure_time };
+    autoFeature(f, seconds > 0.0, seconds);
+  }
+
+  /** Gain: GenICam's Gain is in dB; cameras with GainRaw only have no unit for it. Negative: automatic. */
+  void gain(double value)
+  {
+    const bool db = device_ && arv_device_is_feature_available(device_, "Gain", nullptr);
+    const AutoFeature f{ "gain",
+                         "the gain",
+                         "gain",
+                         1.0,
+                         db ? " dB" : "",
+                         db ? "" : " (GainRaw, the camera's raw units)",
+                         arv_camera_is_gain_auto_available,
+                         arv_camera_set_gain_auto,
+                         arv_camera_is_gain_available,
+                         arv_camera_get_gain_bounds,
+                         arv_camera_set_gain };
+    autoFeature(f, value >= 0.0, value);
+  }
+
+  /** GigE Vision transport: packet socket, packet size (negotiated, or the loopback MTU); @return
+   *  true for a GigE Vision camera. */
+  bool transport(const AravisOptions& o)
+  {
+    if (!arv_camera_is_gv_device(camera_))
+      return false;
+    ArvGvDevice* gv_device = ARV_GV_DEVICE(device_);
+    // A packet socket (used when the process has CAP_NET_RAW) sees no packets on the loopback interface.
+    const int local_mtu = localCameraMtu(arv_gv_device_get_device_address(gv_device));
+    const bool loopback = local_mtu > 0 || isLoopback(arv_gv_device_get_interface_address(gv_device)) ||
+                          isLoopback(arv_gv_device_get_device_address(gv_device));
+    const bool packet_socket = o.packet_socket == PacketSocketMode::Auto && !loopback;
+    arv_camera_gv_set_stream_options(
+        camera_, packet_socket ? ARV_GV_STREAM_OPTION_NONE : ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
+    if (o.packet_size > 0)
+    {
+      arv_camera_gv_set_packet_size(camera_, o.packet_size, &error_);
+      note("cannot set the packet size to " + std::to_string(o.packet_size) + " bytes");
+      const guint actual = arv_camera_gv_get_packet_size(camera_, &error_);
+      takeError(error_);
+      if (actual != 0 && static_cast<int>(actual) != o.packet_size)
+        warn_(description_ + ": packet_size " + std::to_string(o.packet_size) + " bytes, the camera uses " +
+              std::to_string(actual));
+    }
+    else if (!loopback)
+    {
+      // Aravis fires test packets of decreasing size and keeps the largest that arrives unfragmented.
+      arv_camera_gv_auto_packet_size(camera_, &error_);
+      note("packet size negotiation failed (set packet_size)");
+    }
+    else
+    {
+      // Loopback: nothing between host and camera fragments or drops large packets, and a camera
+      // there (a simulator) may not answer test packets; take the largest packet the interface's
+      // MTU and the camera allow (GevSCPSPacketSize counts the IP and UDP headers). Fewer packets
+      // per frame also mean fewer incomplete frames when packets are lost.
+      const int mtu = local_mtu;
+      gint64 lo = 0, hi = 0;
+      arv_device_get_integer_feature_bounds(device_, "GevSCPSPacketSize", &lo, &hi, &error_);
+      takeError(error_);
+      const gint64 current = arv_camera_gv_get_packet_size(camera_, &error_);
+      takeError(error_);
+      gint64 size = std::min<gint64>(mtu, kMaxPacketSize);
+      if (hi > 0)
+        size = std::min(size, hi);
+      if (mtu > 0 && size > current && size >= std::max<gint64>(lo, kMinPacketSize))
+      {
+        arv_camera_gv_set_packet_size(camera_, static_cast<gint>(size), &error_);
+        note("cannot set the packet size to the interface MTU (" + std::to_string(size) + " bytes)");
+      }
+    }
+    return true;
+  }
+
+private:
+  void note(const std::string& what)
+  {
+    const std::string m = takeError(error_);
+    if (!m.empty())
+      warn_(description_ + ": " + what + ": " + m);
+  }
+
+  ArvCamera* camera_;
+  ArvDevice* device_;
+  std::string description_;
+  std::function<void(const std::string&)> warn_;
+  GError* error_ = nullptr;
+};
 }  // namespace
 
 struct AravisSource::Impl
@@ -197,226 +465,14 @@ void AravisSource::open()
     if (!m.empty())
       warn(description() + ": " + what + ": " + m);
   };
+  Configurer configure(camera, description(), [this](const std::string& m) { warn(m); });
+  configure.pixelFormat();
+  configure.region(s);
+  setNominalRate(configure.frameRate(s.rate));
+  configure.exposure(s.exposure);
+  configure.gain(s.gain);
 
-  // Pixel format: Mono8 when offered.
-  {
-    guint n = 0;
-    const char** formats = arv_camera_dup_available_pixel_formats_as_strings(camera, &n, &error);
-    bool has_mono8 = false;
-    for (guint i = 0; formats && i < n; ++i)
-      has_mono8 = has_mono8 || (formats[i] && std::string(formats[i]) == "Mono8");
-    g_free(formats);
-    takeError(error);
-    if (has_mono8)
-    {
-      arv_camera_set_pixel_format(camera, ARV_PIXEL_FORMAT_MONO_8, &error);
-      note("cannot select Mono8", error);
-    }
-  }
-
-  // Region of interest, centred on the sensor.
-  if (s.width > 0 || s.height > 0)
-  {
-    gint sensor_w = 0, sensor_h = 0, x = 0, y = 0, w = 0, h = 0;
-    arv_camera_get_sensor_size(camera, &sensor_w, &sensor_h, &error);
-    takeError(error);
-    arv_camera_get_region(camera, &x, &y, &w, &h, &error);
-    takeError(error);
-    const gint want_w = s.width > 0 ? s.width : w;
-    const gint want_h = s.height > 0 ? s.height : h;
-    gint want_x = std::max(0, s.offset_x), want_y = std::max(0, s.offset_y);
-    const bool offsets = arv_camera_is_region_offset_available(camera, &error);
-    takeError(error);
-    if (offsets)
-    {
-      const gint inc_x = std::max(1, static_cast<int>(arv_camera_get_x_offset_increment(camera, nullptr)));
-      const gint inc_y = std::max(1, static_cast<int>(arv_camera_get_y_offset_increment(camera, nullptr)));
-      if (s.offset_x < 0)
-        want_x = sensor_w >= want_w ? (sensor_w - want_w) / 2 / inc_x * inc_x : 0;
-      if (s.offset_y < 0)
-        want_y = sensor_h >= want_h ? (sensor_h - want_h) / 2 / inc_y * inc_y : 0;
-    }
-    else if (s.offset_x > 0 || s.offset_y > 0)
-    {
-      warn(description() + ": the camera has no region offsets; offset_x and offset_y ignored");
-      want_x = want_y = 0;
-    }
-    arv_camera_set_region(camera, want_x, want_y, want_w, want_h, &error);
-    note("cannot set the region", error);
-    arv_camera_get_region(camera, &x, &y, &w, &h, &error);
-    takeError(error);
-    if (w != want_w || h != want_h)
-    {
-      std::ostringstream msg;
-      msg << description() << ": asked for " << want_w << " x " << want_h << " px, the camera delivers " << w << " x "
-          << h << " px";
-      warn(msg.str());
-    }
-    if (offsets && (x != want_x || y != want_y))
-    {
-      std::ostringstream msg;
-      msg << description() << ": asked for the region at offset " << want_x << ", " << want_y << " px, the camera uses "
-          << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
-      warn(msg.str());
-    }
-  }
-
-  // Frame rate.
-  if (arv_camera_is_frame_rate_available(camera, &error))
-  {
-    double lo = 0.0, hi = 0.0;
-    arv_camera_get_frame_rate_bounds(camera, &lo, &hi, &error);
-    takeError(error);
-    double rate = s.rate;
-    if (hi > lo && (rate < lo || rate > hi))
-    {
-      rate = std::min(std::max(rate, lo), hi);
-      std::ostringstream msg;
-      msg << description() << ": frame rate " << s.rate << " Hz outside " << lo << ".." << hi << " Hz, using " << rate;
-      warn(msg.str());
-    }
-    arv_camera_set_frame_rate(camera, rate, &error);
-    note("cannot set the frame rate", error);
-  }
-  else
-  {
-    takeError(error);
-    warn(description() + ": no frame rate control; the camera runs at its own rate");
-  }
-  setNominalRate(std::max(0.0, arv_camera_get_frame_rate(camera, &error)));
-  takeError(error);
-
-  // Exposure (GenICam ExposureTime is in us).
-  const bool exposure_auto = arv_camera_is_exposure_auto_available(camera, &error);
-  takeError(error);
-  if (s.exposure > 0.0)
-  {
-    if (exposure_auto)
-    {
-      arv_camera_set_exposure_time_auto(camera, ARV_AUTO_OFF, &error);
-      note("cannot switch exposure auto off", error);
-    }
-    if (arv_camera_is_exposure_time_available(camera, &error))
-    {
-      double lo = 0.0, hi = 0.0;
-      arv_camera_get_exposure_time_bounds(camera, &lo, &hi, &error);
-      takeError(error);
-      double us = s.exposure * 1e6;
-      if (hi > lo && (us < lo || us > hi))
-      {
-        us = std::min(std::max(us, lo), hi);
-        std::ostringstream msg;
-        msg << description() << ": exposure " << s.exposure << " s outside " << lo * 1e-6 << ".." << hi * 1e-6
-            << " s, using " << us * 1e-6 << " s";
-        warn(msg.str());
-      }
-      arv_camera_set_exposure_time(camera, us, &error);
-      note("cannot set the exposure time", error);
-    }
-    else
-    {
-      takeError(error);
-      warn(description() + ": no exposure time control; exposure ignored");
-    }
-  }
-  else if (exposure_auto)
-  {
-    arv_camera_set_exposure_time_auto(camera, ARV_AUTO_CONTINUOUS, &error);
-    note("cannot switch exposure auto on", error);
-  }
-
-  // Gain: GenICam's Gain is in dB; cameras with GainRaw only have no unit for it.
-  const bool gain_db = device && arv_device_is_feature_available(device, "Gain", nullptr);
-  const std::string gain_unit = gain_db ? " dB" : "";
-  const char* const gain_note = gain_db ? "" : " (GainRaw, the camera's raw units)";
-  const bool gain_auto = arv_camera_is_gain_auto_available(camera, &error);
-  takeError(error);
-  if (s.gain >= 0.0)
-  {
-    if (gain_auto)
-    {
-      arv_camera_set_gain_auto(camera, ARV_AUTO_OFF, &error);
-      note("cannot switch gain auto off", error);
-    }
-    if (arv_camera_is_gain_available(camera, &error))
-    {
-      double lo = 0.0, hi = 0.0;
-      arv_camera_get_gain_bounds(camera, &lo, &hi, &error);
-      takeError(error);
-      double gain = s.gain;
-      if (hi > lo && (gain < lo || gain > hi))
-      {
-        gain = std::min(std::max(gain, lo), hi);
-        std::ostringstream msg;
-        msg << description() << ": gain " << s.gain << gain_unit << " outside " << lo << ".." << hi << gain_unit
-            << gain_note << ", using " << gain << gain_unit;
-        warn(msg.str());
-      }
-      arv_camera_set_gain(camera, gain, &error);
-      note("cannot set the gain", error);
-    }
-    else
-    {
-      takeError(error);
-      warn(description() + ": no gain control; gain ignored");
-    }
-  }
-  else if (gain_auto)
-  {
-    arv_camera_set_gain_auto(camera, ARV_AUTO_CONTINUOUS, &error);
-    note("cannot switch gain auto on", error);
-  }
-
-  // GigE Vision transport.
-  const bool gv = arv_camera_is_gv_device(camera);
-  if (gv)
-  {
-    ArvGvDevice* gv_device = ARV_GV_DEVICE(device);
-    // A packet socket (used when the process has CAP_NET_RAW) sees no packets on the loopback interface.
-    const int local_mtu = localCameraMtu(arv_gv_device_get_device_address(gv_device));
-    const bool loopback = local_mtu > 0 || isLoopback(arv_gv_device_get_interface_address(gv_device)) ||
-                          isLoopback(arv_gv_device_get_device_address(gv_device));
-    const bool packet_socket = options_.packet_socket == PacketSocketMode::Auto && !loopback;
-    arv_camera_gv_set_stream_options(
-        camera, packet_socket ? ARV_GV_STREAM_OPTION_NONE : ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
-    if (options_.packet_size > 0)
-    {
-      arv_camera_gv_set_packet_size(camera, options_.packet_size, &error);
-      note("cannot set the packet size to " + std::to_string(options_.packet_size) + " bytes", error);
-      const guint actual = arv_camera_gv_get_packet_size(camera, &error);
-      takeError(error);
-      if (actual != 0 && static_cast<int>(actual) != options_.packet_size)
-        warn(description() + ": packet_size " + std::to_string(options_.packet_size) + " bytes, the camera uses " +
-             std::to_string(actual));
-    }
-    else if (!loopback)
-    {
-      // Aravis fires test packets of decreasing size and keeps the largest that arrives unfragmented.
-      arv_camera_gv_auto_packet_size(camera, &error);
-      note("packet size negotiation failed (set packet_size)", error);
-    }
-    else
-    {
-      // Loopback: nothing between host and camera fragments or drops large packets, and a camera
-      // there (a simulator) may not answer test packets; take the largest packet the interface's
-      // MTU and the camera allow (GevSCPSPacketSize counts the IP and UDP headers). Fewer packets
-      // per frame also mean fewer incomplete frames when packets are lost.
-      const int mtu = local_mtu;
-      gint64 lo = 0, hi = 0;
-      arv_device_get_integer_feature_bounds(device, "GevSCPSPacketSize", &lo, &hi, &error);
-      takeError(error);
-      const gint64 current = arv_camera_gv_get_packet_size(camera, &error);
-      takeError(error);
-      gint64 size = std::min<gint64>(mtu, kMaxPacketSize);
-      if (hi > 0)
-        size = std::min(size, hi);
-      if (mtu > 0 && size > current && size >= std::max<gint64>(lo, kMinPacketSize))
-      {
-        arv_camera_gv_set_packet_size(camera, static_cast<gint>(size), &error);
-        note("cannot set the packet size to the interface MTU (" + std::to_string(size) + " bytes)", error);
-      }
-    }
-  }
+  const bool gv = configure.transport(options_);
 
   // Stream: one set of buffers for the whole run, continuous acquisition.
   arv_camera_set_acquisition_mode(camera, ARV_ACQUISITION_MODE_CONTINUOUS, &error);

@@ -115,8 +115,8 @@ void NavigationNodelet::onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg)
   if (!sized || !nav_->onMap(v, msg->header.stamp.toSec()))
   {
     NODELET_ERROR_THROTTLE(5.0, "local_map refused: %u x %u cells, %zu values, resolution %g, origin (%g, %g)",
-                           msg->info.width, msg->info.height, msg->data.size(), msg->info.resolution,
-                           v.origin_x, v.origin_y);
+                           msg->info.width, msg->info.height, msg->data.size(), msg->info.resolution, v.origin_x,
+                           v.origin_y);
   }
 }
 
@@ -125,8 +125,8 @@ void NavigationNodelet::onFilter(const sl_msgs::ObstacleStatus::ConstPtr& msg)
   // Only the filter's answers to commands on cmd_vel_in (teleop) that it scaled down count.
   std::lock_guard<std::mutex> lock(mutex_);
   const bool limited = msg->teleop && msg->input_linear > 0.0 && msg->command_scale < 0.999;
-  speed_cap_ = limited ? std::max(0.0, msg->command_scale * msg->input_linear)
-                       : std::numeric_limits<double>::infinity();
+  speed_cap_ =
+      limited ? std::max(0.0, msg->command_scale * msg->input_linear) : std::numeric_limits<double>::infinity();
   speed_cap_time_ = ros::Time::now();
 }
 
@@ -254,7 +254,8 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
     return;
   }
   const bool cap_fresh = (now - speed_cap_time_).toSec() < 0.5;
-  const NavOutput& out = nav_->step(pose, now.toSec(), cap_fresh ? speed_cap_ : std::numeric_limits<double>::infinity());
+  const NavOutput& out =
+      nav_->step(pose, now.toSec(), cap_fresh ? speed_cap_ : std::numeric_limits<double>::infinity());
   if (out.command)
   {
     publishCommand(out.linear, out.angular, now);

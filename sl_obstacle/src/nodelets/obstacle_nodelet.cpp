@@ -108,9 +108,9 @@ private:
   std::unique_ptr<DecisionMaker> decider_;
   VelocityGoal velocity_goal_;
   std::vector<Point> points_;
-  std::unique_ptr<WorldModel> world_;  // null without ~use_map
+  std::unique_ptr<WorldModel> world_;                 // null without ~use_map
   CloudPairing<Cloud::ConstPtr, ros::Time> pairing_;  // each image's ray ends with its points
-  double cloud_contact_ = 0.0;         // the latest cloud's obstacle: travel until the disc touches it
+  double cloud_contact_ = 0.0;                        // the latest cloud's obstacle: travel until the disc touches it
   std::vector<MapRay> rays_;
   Pose2D pose_;
   bool localized_ = false;
@@ -159,7 +159,7 @@ private:
   geometry_msgs::Twist command_;
   ros::Time command_time_;
   bool have_command_ = false;
-  TeleopArbiter teleop_;  // cmd_vel_in or autonomy
+  TeleopArbiter teleop_;                // cmd_vel_in or autonomy
   std::vector<Point2> obstacles_edge_;  // the latest cloud's accepted obstacle points in ~target_frame
   ros::Time obstacles_stamp_;
   bool obstacles_pending_ = false;       // obstacles_edge_ not yet in odom (tf not there yet)
@@ -819,11 +819,11 @@ void ObstacleNodelet::publishStatus(const Decision* d, const ros::Time& now)
   status_pub_.publish(s);
 }
 
-
 void ObstacleNodelet::publishMarkers(const ros::Time& stamp)
 {
   using visualization_msgs::Marker;
-  const bool blocked = teleop_.active() ? filter_out_.reason == FilterReason::STOPPED_OBSTACLE : decider_->last().blocked;
+  const bool blocked =
+      teleop_.active() ? filter_out_.reason == FilterReason::STOPPED_OBSTACLE : decider_->last().blocked;
   volumeMarkers(checker_->result(), params_.settings.checker.volume, points_, blocked, params_.target_frame, stamp,
                 markers_);
   // The footprint the filtered command sweeps before it must stop (map frame).

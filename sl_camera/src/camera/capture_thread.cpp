@@ -194,187 +194,209 @@ void CaptureThread::countGap(const Frame& frame)
   ++stats_.frames;
 }
 
-void CaptureThread::run()
+bool CaptureThread::stopping()
 {
-  using Clock = std::chrono::steady_clock;
-  const auto grab_timeout = std::chrono::milliseconds(std::max<long>(1, std::lround(options_.grab_timeout * 1000.0)));
-  double backoff = options_.initial_backoff;
-  bool streamed = false;  // has the source delivered frames before (so that a new open is a reconnect)?
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stop_requested_;
+}
 
-  auto stopping = [this]
+void CaptureThread::closeSource()
+{
+  try
+  {
+    source_->close();
+  }
+  catch (...)
+  {
+    // closing a broken device may fail; it is released either way
+  }
+}
+
+CaptureThread::OpenResult CaptureThread::openSource(double& backoff)
+{
+  setState(CaptureState::Opening, "opening " + description_);
+  try
+  {
+    source_->open();
+    return OpenResult::Opened;
+  }
+  catch (const std::exception& e)
+  {
+    closeSource();
+    const CameraError* ce = dynamic_cast<const CameraError*>(&e);
+    fail(ce ? std::string(e.what()) : "cannot open " + description_ + ": " + e.what(), backoff, true);
+  }
+  if (!waitFor(backoff))
+    return OpenResult::Stop;
+  backoff = std::min(2.0 * backoff, options_.max_backoff);
+  return OpenResult::Retry;
+}
+
+double CaptureThread::startStreaming()
+{
+  for (const std::string& w : source_->takeWarnings())
+    emit(CaptureEvent{ CaptureEvent::Type::Warning, CaptureState::Opening, w, 0.0 });
+  const double rate = source_->nominalRate();
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    return stop_requested_;
-  };
-  auto closeSource = [this]
-  {
-    try
-    {
-      source_->close();
-    }
-    catch (...)
-    {
-      // closing a broken device may fail; it is released either way
-    }
-  };
+    stats_.nominal_rate = rate;
+    opened_at_ = std::chrono::steady_clock::now();
+    have_frame_ = false;
+    waiting_ = false;
+  }
+  std::ostringstream msg;
+  msg << "opened " << description_;
+  if (rate > 0.0)
+    msg << " at " << rate << " Hz";
+  setState(CaptureState::Streaming, msg.str());
+  have_previous_ = false;
+  unusable_since_frame_ = 0;
+  return rate;
+}
 
-  while (!stopping())
+void CaptureThread::deliver(double rate, bool& have_frame, bool& streamed, double& backoff)
+{
   {
-    setState(CaptureState::Opening, "opening " + description_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    last_frame_at_ = std::chrono::steady_clock::now();
+    have_frame_ = true;
+    if (!have_frame && streamed)
+      ++stats_.reconnects;  // counted once frames flow again, not when a dead device merely opens
+  }
+  if (!have_frame)
+  {
+    // Only now is the source known to work: the back-off starts over, and "recovered" may be said.
+    have_frame = true;
+    streamed = true;
+    backoff = options_.initial_backoff;
+    std::ostringstream first;
+    first << "streaming from " << description_;
+    if (rate > 0.0)
+      first << " at " << rate << " Hz";
+    emit(CaptureEvent{ CaptureEvent::Type::FirstFrame, CaptureState::Streaming, first.str(), 0.0 });
+  }
+  countGap(frame_);
+  if (on_frame_)
+  {
     try
     {
-      source_->open();
+      on_frame_(frame_);
     }
     catch (const std::exception& e)
     {
-      closeSource();
-      const CameraError* ce = dynamic_cast<const CameraError*>(&e);
-      fail(ce ? std::string(e.what()) : "cannot open " + description_ + ": " + e.what(), backoff, true);
-      if (!waitFor(backoff))
-        break;
-      backoff = std::min(2.0 * backoff, options_.max_backoff);
+      emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming,
+                         std::string("frame callback failed: ") + e.what(), 0.0 });
+    }
+  }
+}
+
+CaptureThread::StreamEnd CaptureThread::stream(double rate, double& backoff, bool& streamed, std::string& lost)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto grab_timeout = std::chrono::milliseconds(std::max<long>(1, std::lround(options_.grab_timeout * 1000.0)));
+  Clock::time_point last_frame = Clock::now();
+  bool have_frame = false;
+  bool waiting = false;
+  while (!stopping())
+  {
+    GrabStatus status = GrabStatus::Timeout;
+    try
+    {
+      status = source_->grab(frame_, grab_timeout);
+    }
+    catch (const CameraError& e)
+    {
+      if (e.kind() != CameraError::Kind::Frame)
+      {
+        lost = e.what();
+        return StreamEnd::Lost;
+      }
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++stats_.dropped;
+        stats_.last_error = e.what();
+      }
+      ++unusable_since_frame_;
+      // An unusable frame still shows that the device is there: not a stall (the diagnostics
+      // still see no good frame).
+      last_frame = Clock::now();
+      emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming, e.what(), 0.0 });
+    }
+    catch (const std::exception& e)
+    {
+      lost = description_ + ": " + e.what();
+      return StreamEnd::Lost;
+    }
+
+    const Clock::time_point now = Clock::now();
+    const bool now_waiting = status == GrabStatus::Timeout && source_->waiting();
+    if (now_waiting || waiting)
+    {
+      // Held on purpose (a player before its start): no stall, and the wait for the first frame
+      // counts from the end of the hold.
+      std::lock_guard<std::mutex> lock(mutex_);
+      waiting_ = now_waiting;
+      if (now_waiting)
+        opened_at_ = now;
+    }
+    waiting = now_waiting;
+    if (waiting)
+    {
+      last_frame = now;
       continue;
     }
-
-    for (const std::string& w : source_->takeWarnings())
-      emit(CaptureEvent{ CaptureEvent::Type::Warning, CaptureState::Opening, w, 0.0 });
-    const double rate = source_->nominalRate();
-    Clock::time_point opened = Clock::now();
+    if (status == GrabStatus::Frame)
     {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stats_.nominal_rate = rate;
-      opened_at_ = opened;
-      have_frame_ = false;
-      waiting_ = false;
+      last_frame = now;
+      deliver(rate, have_frame, streamed, backoff);
     }
-    std::ostringstream msg;
-    msg << "opened " << description_;
-    if (rate > 0.0)
-      msg << " at " << rate << " Hz";
-    setState(CaptureState::Streaming, msg.str());
-    have_previous_ = false;
-    unusable_since_frame_ = 0;
-
-    Clock::time_point last_frame = opened;
-    bool have_frame = false;
-    bool waiting = false;
-    std::string lost_message;
-    bool finished = false;
-    while (!stopping())
+    else if (status == GrabStatus::EndOfStream)
     {
-      GrabStatus status = GrabStatus::Timeout;
-      try
-      {
-        status = source_->grab(frame_, grab_timeout);
-      }
-      catch (const CameraError& e)
-      {
-        if (e.kind() != CameraError::Kind::Frame)
-        {
-          lost_message = e.what();
-          break;
-        }
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          ++stats_.dropped;
-          stats_.last_error = e.what();
-        }
-        ++unusable_since_frame_;
-        // An unusable frame still shows that the device is there: not a stall (the diagnostics
-        // still see no good frame).
-        last_frame = Clock::now();
-        emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming, e.what(), 0.0 });
-      }
-      catch (const std::exception& e)
-      {
-        lost_message = description_ + ": " + e.what();
-        break;
-      }
-
-      const Clock::time_point now = Clock::now();
-      const bool now_waiting = status == GrabStatus::Timeout && source_->waiting();
-      if (now_waiting || waiting)
-      {
-        // Held on purpose (a player before its start): no stall, and the wait for the first frame
-        // counts from the end of the hold.
-        std::lock_guard<std::mutex> lock(mutex_);
-        waiting_ = now_waiting;
-        if (now_waiting)
-          opened_at_ = now;
-      }
-      waiting = now_waiting;
-      if (waiting)
-      {
-        last_frame = now;
-        continue;
-      }
-      if (status == GrabStatus::Frame)
-      {
-        last_frame = now;
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          last_frame_at_ = now;
-          have_frame_ = true;
-          if (!have_frame && streamed)
-            ++stats_.reconnects;  // counted once frames flow again, not when a dead device merely opens
-        }
-        if (!have_frame)
-        {
-          // Only now is the source known to work: the back-off starts over, and "recovered" may be said.
-          have_frame = true;
-          streamed = true;
-          backoff = options_.initial_backoff;
-          std::ostringstream first;
-          first << "streaming from " << description_;
-          if (rate > 0.0)
-            first << " at " << rate << " Hz";
-          emit(CaptureEvent{ CaptureEvent::Type::FirstFrame, CaptureState::Streaming, first.str(), 0.0 });
-        }
-        countGap(frame_);
-        if (on_frame_)
-        {
-          try
-          {
-            on_frame_(frame_);
-          }
-          catch (const std::exception& e)
-          {
-            emit(CaptureEvent{ CaptureEvent::Type::FrameError, CaptureState::Streaming,
-                               std::string("frame callback failed: ") + e.what(), 0.0 });
-          }
-        }
-      }
-      else if (status == GrabStatus::EndOfStream)
-      {
-        finished = true;
-        break;
-      }
-      const double limit = have_frame ? options_.stall_timeout : options_.first_frame_timeout;
-      if (std::chrono::duration<double>(now - last_frame).count() > limit)
-      {
-        std::ostringstream stall;
-        stall << description_ << ": no frame for " << limit << " s";
-        if (!have_frame)
-          stall << " after opening";
-        lost_message = stall.str();
-        break;
-      }
+      return StreamEnd::Finished;
     }
+    const double limit = have_frame ? options_.stall_timeout : options_.first_frame_timeout;
+    if (std::chrono::duration<double>(now - last_frame).count() > limit)
+    {
+      std::ostringstream stall;
+      stall << description_ << ": no frame for " << limit << " s";
+      if (!have_frame)
+        stall << " after opening";
+      lost = stall.str();
+      return StreamEnd::Lost;
+    }
+  }
+  return StreamEnd::Stopped;
+}
 
-    if (finished)
+void CaptureThread::run()
+{
+  using Clock = std::chrono::steady_clock;
+  double backoff = options_.initial_backoff;
+  bool streamed = false;  // has the source delivered frames before (so that a new open is a reconnect)?
+  while (!stopping())
+  {
+    const OpenResult opened = openSource(backoff);
+    if (opened == OpenResult::Stop)
+      break;
+    if (opened == OpenResult::Retry)
+      continue;
+    const double rate = startStreaming();
+    std::string lost;
+    const StreamEnd end = stream(rate, backoff, streamed, lost);
+    if (end == StreamEnd::Finished)
     {
       closeSource();
       setState(CaptureState::Finished, "end of " + description_);
       waitFor(std::numeric_limits<double>::infinity());
       break;
     }
-    if (lost_message.empty())
+    if (end == StreamEnd::Stopped)
     {
       closeSource();
-      break;  // stop requested
+      break;
     }
     // Report first: closing a device that is gone may take a while.
-    fail(lost_message, backoff, false);
+    fail(lost, backoff, false);
     const Clock::time_point close_start = Clock::now();
     closeSource();
     const double close_time = std::chrono::duration<double>(Clock::now() - close_start).count();

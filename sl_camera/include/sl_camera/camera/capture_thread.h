@@ -139,7 +139,30 @@ public:
   const std::string& sourceDescription() const { return description_; }
 
 private:
+  enum class OpenResult
+  {
+    Opened,
+    Retry,  ///< failed; the back-off was waited
+    Stop    ///< failed, and stop was requested while waiting
+  };
+  enum class StreamEnd
+  {
+    Stopped,   ///< stop requested
+    Finished,  ///< end of a recording
+    Lost       ///< the source failed or stalled
+  };
   void run();
+  /// One attempt to open the source; on failure it is reported and the back-off waited (and doubled).
+  OpenResult openSource(double& backoff);
+  /// After a successful open: stats, warnings, state Streaming. @return the source's nominal rate.
+  double startStreaming();
+  /// Grabs until stop, the end of a recording or a lost source (@p lost says why). @p backoff
+  /// restarts and @p streamed is set at the first frame.
+  StreamEnd stream(double rate, double& backoff, bool& streamed, std::string& lost);
+  /// A frame was grabbed: stats, the first-frame event (first of this open), the gap count, the callback.
+  void deliver(double rate, bool& have_frame, bool& streamed, double& backoff);
+  bool stopping();
+  void closeSource();
   void setState(CaptureState state, const std::string& message);
   void emit(const CaptureEvent& event);
   void fail(const std::string& message, double retry_in, bool count_open_failure);

@@ -12,13 +12,12 @@ unset PYTHONPATH PYTHONHOME
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 # shellcheck disable=SC1091
 source "$(dirname "$0")/gtest_targets.sh"
-targets=("${gtest_targets[@]}")
 log="$ws/asan_build.log"
 if ! catkin_make -C "$ws" --build "$ws/build_asan" -DCATKIN_DEVEL_PREFIX="$ws/devel_asan" -j"$jobs" \
     -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
     -DCMAKE_CXX_FLAGS="$sanitize" -DCMAKE_C_FLAGS="$sanitize" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
-    "${targets[@]}" > "$log" 2>&1; then
+    "${gtest_targets[@]}" > "$log" 2>&1; then
   tail -n 40 "$log"; echo "sanitizer build failed (log: $log)"; echo "0 passed, 1 failed"; exit 1
 fi
 # The tests find packages (rospack) and data through the sanitized workspace's environment.
@@ -31,19 +30,9 @@ rm -rf "$results"; mkdir -p "$results"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0:halt_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 status=0
-for t in "${targets[@]}"; do
-  bin="$(find "$ws/devel_asan/lib" -name "$t" -type f | head -n 1)"
-  if [[ -z "$bin" ]]; then
-    echo "FAILED $t: not built"; status=1; continue
-  fi
-  if ! "$bin" --gtest_output="xml:$results/$t.xml" > "$results/$t.log" 2>&1; then
-    status=1
-    echo "--- $t (sanitizer or test failure; log: $results/$t.log)"
-    grep -E -A12 'ERROR: AddressSanitizer|runtime error|FAILED  \]' "$results/$t.log" | head -n 40
-    # A sanitizer abort leaves no XML: count it as one failure.
-    [[ -s "$results/$t.xml" ]] || printf '<testsuites><testsuite><testcase classname="%s" name="sanitizer"><failure message="aborted"/></testcase></testsuite></testsuites>\n' "$t" > "$results/$t.xml"
-  fi
-done
+# A sanitizer abort leaves no XML: it counts as one failed case.
+run_gtests "$ws/devel_asan/lib" "$results" "sanitizer or test failure; " "-A12" \
+  'ERROR: AddressSanitizer|runtime error|FAILED  \]' sanitizer || status=1
 summary="$(/usr/bin/python3 "$(dirname "$0")/test_summary.py" "$results")"
 echo "$summary"
 [[ $status -eq 0 ]]

@@ -19,18 +19,7 @@ set -u
 results="$ws/build/unit_results"
 rm -rf "$results"; mkdir -p "$results"
 status=0
-for t in "${gtest_targets[@]}"; do
-  bin="$(find "$ws/devel/lib" -name "$t" -type f | head -n 1)"
-  if [[ -z "$bin" ]]; then
-    echo "FAILED $t: not built"; status=1; continue
-  fi
-  if ! "$bin" --gtest_output="xml:$results/$t.xml" > "$results/$t.log" 2>&1; then
-    status=1
-    echo "--- $t (log: $results/$t.log)"
-    grep -E -B2 -A8 'Failure|FAILED  \]' "$results/$t.log" | head -n 40
-    [[ -s "$results/$t.xml" ]] || printf '<testsuites><testsuite><testcase classname="%s" name="crashed"><failure message="no result"/></testcase></testsuite></testsuites>\n' "$t" > "$results/$t.xml"
-  fi
-done
+run_gtests "$ws/devel/lib" "$results" "" "-B2 -A8" 'Failure|FAILED  \]' crashed || status=1
 summary="$(/usr/bin/python3 "$(dirname "$0")/test_summary.py" "$results")"
 echo "$summary"
 [[ $status -eq 0 ]]

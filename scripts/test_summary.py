@@ -36,15 +36,17 @@ for dirpath, _, files in os.walk(root_dir):
             continue
         for case in cases:
             label = "%s.%s" % (case.get("classname", "?"), case.get("name", "?"))
-            problem = case.find("failure")
-            if problem is None:
-                problem = case.find("error")
-            if problem is not None:
+            problems = case.findall("failure") + case.findall("error")
+            if problems:
                 failed += 1
-                # The assertion text, so that a CI log alone tells what failed.
-                detail = (problem.get("message") or problem.text or "").strip().splitlines()
+                # The assertion texts, so that a CI log alone tells what failed: up to 12 lines of
+                # each, and 45 of a closed-loop test's decision trail.
+                detail = []
+                for problem in problems:
+                    lines = (problem.get("message") or problem.text or "").strip().splitlines()
+                    detail += lines[:45 if "changes of decision" in "".join(lines[:2]) else 12]
                 failures.append("%s: %s%s" % (os.path.relpath(path, root_dir), label,
-                                              "".join("\n    " + line for line in detail[:12])))
+                                              "".join("\n    " + line for line in detail)))
             elif case.find("skipped") is not None or case.get("status") == "notrun":
                 skipped += 1
             else:

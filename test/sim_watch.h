@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
+#include <deque>
 #include <limits>
 #include <mutex>
 #include <set>
@@ -61,7 +63,9 @@ inline double stepBetween(const geometry_msgs::Pose& a, const geometry_msgs::Pos
  * and hazard messages, ORs the contact bits, latches a bumper, and keeps the objects collided with
  * and the minimum clearance. Subclasses see every pose and decision in onPose() and onStatus(),
  * which run with mutex_ held, as must every read of the members. Every test ends with
- * expectNoCollision() (TearDown() runs it for a test that stopped before).
+ * expectNoCollision() (TearDown() runs it for a test that stopped before). A failed test also
+ * reports the last changes of the decision (state, reason, command and text, kTrailLength of them),
+ * so that a CI log alone tells what the robot was doing.
  */
 class SimWatch : public ::testing::Test
 {
@@ -79,6 +83,15 @@ protected:
   {
     if (!collision_checked_)
       expectNoCollision();
+    if (HasFailure())
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::string text;
+      for (const std::string& line : trail_)
+        text += "\n  " + line;
+      ADD_FAILURE() << "the last " << trail_.size() << " changes of decision (s since the first; state/reason "
+                    << "codes of ObstacleStatus, command, distance):" << text;
+    }
     // No callback may run on the fixture once it is being destroyed.
     pose_sub_.shutdown();
     contact_sub_.shutdown();
@@ -202,7 +215,33 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_messages_;
     onStatus(msg);
+    remember(msg);
   }
+
+  /// Keeps a line for a decision whose state, reason or command differs from the previous one.
+  void remember(const sl_msgs::ObstacleStatus& msg)
+  {
+    if (first_status_.isZero())
+      first_status_ = msg.header.stamp;
+    const bool same = !trail_.empty() && msg.state == last_state_ && msg.reason_code == last_reason_ &&
+                      (msg.command == last_command_ || msg.command == sl_msgs::ObstacleStatus::COMMAND_NONE);
+    last_state_ = msg.state;
+    last_reason_ = msg.reason_code;
+    last_command_ = msg.command;
+    if (same)
+      return;
+    char line[240];
+    std::snprintf(line, sizeof(line), "%7.2f %d/%-2d cmd %d %+.3f: %.150s", (msg.header.stamp - first_status_).toSec(),
+                  msg.state, msg.reason_code, msg.command, msg.command_distance, msg.reason.c_str());
+    trail_.emplace_back(line);
+    if (trail_.size() > kTrailLength)
+      trail_.pop_front();
+  }
+
+  static constexpr size_t kTrailLength = 40;
+  std::deque<std::string> trail_;
+  ros::Time first_status_;
+  int last_state_ = -1, last_reason_ = -1, last_command_ = -1;
 
   ros::NodeHandle nh_;
   ros::Subscriber pose_sub_, contact_sub_, collision_sub_, hazards_sub_, status_sub_;

@@ -392,11 +392,11 @@ void DecisionMaker::startCycle(double now, Reason reason, const char* why)
   stopHere(now);
 }
 
-void DecisionMaker::startTurn(double now, int steps)
+void DecisionMaker::startTurn(double now)
 {
   phase_ = Phase::TURN;
   phase_start_ = now;
-  turn_end_ = now + steps * params_.turn_angle / params_.turn_speed;
+  turn_end_ = now + params_.turn_angle / params_.turn_speed;
 }
 
 void DecisionMaker::stepCycle(double now, const MotionState& motion)
@@ -406,8 +406,11 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
   if (phase_ == Phase::SETTLE)
   {
     // Blocked only by what was not known yet (the very first cloud comes before its rays are in the
-    // map): a cloud taken since may show a way, a creep included, before any turn.
-    if (cycle_reason_ == Reason::UNKNOWN_AHEAD && frame_.stamp > phase_start_)
+    // map): a cloud taken since may show a way, a creep included, before any turn. No turn before
+    // that cloud came (however late under load): the heading it shows is never looked at again
+    // otherwise. Clouds that stop coming end the wait as stale data.
+    const bool fresh = frame_.stamp > phase_start_;
+    if (cycle_reason_ == Reason::UNKNOWN_AHEAD && fresh)
     {
       const Assessment a = assess(frame_);
       if (a.kind == Assessment::DRIVE)
@@ -418,7 +421,7 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
         return;
       }
     }
-    if (now - phase_start_ < params_.settle_time)
+    if (now - phase_start_ < params_.settle_time || (cycle_reason_ == Reason::UNKNOWN_AHEAD && !fresh))
     {
       set(State::BLOCKED, cycle_reason_, Command::STOP);
       setText("%s; stopped, turning %s next", cycle_text_.c_str(), side);
@@ -466,13 +469,15 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
     cycle_text_.assign(decision_.text);
     if (turns_done_ < params_.max_turns)
     {
-      int steps = 1;
-      if (frame_.from_map && start_reason_ == Reason::UNKNOWN_AHEAD && turns_done_ == 1)
+      if (frame_.from_map && start_reason_ == Reason::UNKNOWN_AHEAD && turns_done_ <= 2)
       {
-        // Blocked by what was never seen, and one side looked at in vain: look at the other side
-        // of the first heading too (two steps back) before choosing where to go.
-        turn_dir_ = -turn_dir_;
-        steps = 2;
+        // Blocked by what was never seen, and one side looked at in vain: back to the first heading
+        // (its rays may have reached the map only after the first look, e.g. before odometry came),
+        // then on to its other side, before choosing where to go.
+        if (turns_done_ == 1)
+        {
+          turn_dir_ = -turn_dir_;
+        }
       }
       else if (frame_.from_map && frame_.best_turn != 0.0 &&
                frame_.best_turn_free - params_.safety_margin >= params_.min_goal_distance)
@@ -480,7 +485,7 @@ void DecisionMaker::stepCycle(double now, const MotionState& motion)
         turn_dir_ = frame_.best_turn > 0.0 ? 1 : -1;  // the map knows a way: turn toward it
       }
       side = turn_dir_ > 0 ? "left" : "right";
-      startTurn(now, steps);
+      startTurn(now);
       set(State::TURNING, Reason::TURNING, Command::TURN);
       decision_.angular_speed = turn_dir_ * params_.turn_speed;
       setText("turning %s, step %d of %d (%s)", side, turns_done_ + 1, params_.max_turns, cycle_text_.c_str());

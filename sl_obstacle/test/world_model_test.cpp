@@ -565,11 +565,27 @@ TEST(MapDecisions, AWayFoundWhileSettlingIsTakenOnlyWhenUnknownSpaceBlocked)
   f.open_distance = 1.2;
   decider.onFrame(f);  // the same cloud, its rays now in the map: not taken after the cycle began
   EXPECT_EQ(decider.step(1.01, MotionState()).command, Command::STOP);
+  // Past settle_time, still no cloud taken since (a loaded machine): no turn away from a heading
+  // nobody looked at yet.
+  const Decision& waiting = decider.step(1.0 + dp.settle_time + 0.1, MotionState());
+  EXPECT_EQ(waiting.command, Command::STOP) << waiting.text;
+  EXPECT_EQ(waiting.reason, Reason::UNKNOWN_AHEAD);
   f.stamp = 1.1;
   decider.onFrame(f);
-  const Decision& d = decider.step(1.1, MotionState());
+  const Decision& d = decider.step(1.45, MotionState());
   EXPECT_EQ(d.command, Command::DRIVE) << d.text;
   EXPECT_EQ(d.reason, Reason::CREEPING);
+  // The same with a cloud that still shows nothing ahead: then it turns.
+  decider.reset();
+  FrameSummary u;
+  u.from_map = true;
+  u.stamp = 1.0;
+  decider.onFrame(u);
+  EXPECT_EQ(decider.step(1.0, MotionState()).command, Command::STOP);
+  EXPECT_EQ(decider.step(1.0 + dp.settle_time + 0.1, MotionState()).command, Command::STOP);
+  u.stamp = 1.2;
+  decider.onFrame(u);
+  EXPECT_EQ(decider.step(1.45, MotionState()).command, Command::TURN);
   // Blocked by an obstacle, the cycle settles and turns whatever the next cloud says.
   decider.reset();
   FrameSummary o;
@@ -591,9 +607,10 @@ TEST(MapDecisions, AWayFoundWhileSettlingIsTakenOnlyWhenUnknownSpaceBlocked)
 
 TEST(MapDecisions, NeverSeenSpaceAheadIsLookedAtOnBothSides)
 {
-  // Unknown ahead: the turn cycle turns one step to one side, then two steps back (the other side of
-  // the first heading), even with a heading open on the first side (the way it came), and then
-  // toward that heading. Blocked by an obstacle it turns toward it at once.
+  // Unknown ahead: the turn cycle turns one step to one side, one step back (the first heading
+  // again: its rays may have reached the map late) and one more (its other side), even with a
+  // heading open on the first side (the way it came), and then toward that heading. Blocked by an
+  // obstacle it turns toward it at once.
   for (const bool obstacle : { false, true })
   {
     DecisionParams dp = mapDecisionParams(0.4, 12);
@@ -626,7 +643,7 @@ TEST(MapDecisions, NeverSeenSpaceAheadIsLookedAtOnBothSides)
     ASSERT_GE(turns.size(), 4U);
     const double step = dp.turn_angle / dp.turn_speed;
     const std::vector<double> expected =
-        obstacle ? std::vector<double>{ step, step, step, step } : std::vector<double>{ step, -2 * step, step, step };
+        obstacle ? std::vector<double>{ step, step, step, step } : std::vector<double>{ step, -step, -step, step };
     for (std::size_t k = 0; k < 4; ++k)
     {
       EXPECT_NEAR(turns[k], expected[k], 0.06) << "turn " << k << (obstacle ? " (obstacle)" : " (unknown)");

@@ -234,7 +234,7 @@ private:
   void setText(const char* format, ...) __attribute__((format(printf, 2, 3)));
   void drive(const Assessment& a, const FrameSummary& f);
   void startCycle(double now, Reason reason, const char* why);
-  void startTurn(double now, int steps = 1);
+  void startTurn(double now);
   void stepCycle(double now, const MotionState& motion);
   bool startBackoff(double now);
   bool stepBackoff(double now, const MotionState& motion);

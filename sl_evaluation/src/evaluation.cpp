@@ -27,6 +27,20 @@ void EvalStats::add(const EvalStats& o)
   sum_abs_error += o.sum_abs_error;
   max_abs_error = std::max(max_abs_error, o.max_abs_error);
   with_depth += o.with_depth;
+  abs_errors.insert(abs_errors.end(), o.abs_errors.begin(), o.abs_errors.end());
+}
+
+double EvalStats::errorPercentileMm(double percent) const
+{
+  if (!(percent > 0.0 && percent <= 100.0))
+    throw std::invalid_argument("errorPercentileMm: percent must be in (0, 100]");
+  if (abs_errors.empty())
+    return 0.0;
+  std::vector<float> sorted = abs_errors;
+  const size_t rank = static_cast<size_t>(std::ceil(percent * static_cast<double>(sorted.size()) / 100.0));
+  const auto nth = sorted.begin() + static_cast<long>(std::max<size_t>(rank, 1) - 1);
+  std::nth_element(sorted.begin(), nth, sorted.end());
+  return 1000.0 * static_cast<double>(*nth);
 }
 
 namespace
@@ -167,6 +181,7 @@ EvalStats evaluateFrame(const sl_projector::Pattern& pattern, const sl_sim::Rend
     const double error = std::abs(static_cast<double>(b.z) - z_true);
     s.sum_abs_error += error;
     s.max_abs_error = std::max(s.max_abs_error, error);
+    s.abs_errors.push_back(static_cast<float>(error));
     ++s.with_depth;
     if (z_true < background - 0.015f)
       ++s.near_points;

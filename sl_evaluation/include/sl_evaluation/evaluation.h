@@ -15,18 +15,19 @@ namespace sl_evaluation
 /// @brief Decoding quality of one or more frames.
 struct EvalStats
 {
-  int frames = 0;              ///< frames added
-  int visible = 0;             ///< primitives the camera sees well enough to decode (ground truth)
-  int identified = 0;          ///< blobs whose shape was identified
-  int decoded = 0;             ///< blobs given a (row, col)
-  int valid = 0;               ///< 3D points produced
-  int valid_visible = 0;       ///< correct points on visible primitives (the part of valid that visible counts)
-  int wrong = 0;               ///< points whose (row, col) is not the primitive lighting that pixel
-  int unverifiable = 0;        ///< points where the ground truth has no projector light nearby
-  int near_points = 0;         ///< valid points on surfaces 15+ mm in front of the frame's background
-  double sum_abs_error = 0.0;  ///< sum of |depth error| over points with ground-truth depth, m
-  double max_abs_error = 0.0;  ///< m
-  int with_depth = 0;          ///< points that have a ground-truth depth
+  int frames = 0;                 ///< frames added
+  int visible = 0;                ///< primitives the camera sees well enough to decode (ground truth)
+  int identified = 0;             ///< blobs whose shape was identified
+  int decoded = 0;                ///< blobs given a (row, col)
+  int valid = 0;                  ///< 3D points produced
+  int valid_visible = 0;          ///< correct points on visible primitives (the part of valid that visible counts)
+  int wrong = 0;                  ///< points whose (row, col) is not the primitive lighting that pixel
+  int unverifiable = 0;           ///< points where the ground truth has no projector light nearby
+  int near_points = 0;            ///< valid points on surfaces 15+ mm in front of the frame's background
+  double sum_abs_error = 0.0;     ///< sum of |depth error| over points with ground-truth depth, m
+  double max_abs_error = 0.0;     ///< m
+  int with_depth = 0;             ///< points that have a ground-truth depth
+  std::vector<float> abs_errors;  ///< |depth error| of each point that has a ground-truth depth, m
 
   /// @brief Share of the visible primitives that gave a correct point, percent (at most 100; points on
   /// primitives seen only in part, at borders and depth edges, come on top: valid - valid_visible).
@@ -35,6 +36,12 @@ struct EvalStats
   double meanErrorMm() const { return with_depth > 0 ? 1000.0 * sum_abs_error / with_depth : 0.0; }
   /// @brief Max |depth error|, mm.
   double maxErrorMm() const { return 1000.0 * max_abs_error; }
+  /**
+   * @brief |depth error| that @p percent % of the points with ground-truth depth do not exceed, mm
+   * (nearest rank: 50 the median, 95 the 95th percentile, 100 the max); 0 without such points.
+   * @throws std::invalid_argument if @p percent is not in (0, 100].
+   */
+  double errorPercentileMm(double percent) const;
   /// @brief Adds another frame's statistics.
   void add(const EvalStats& other);
 };

@@ -426,6 +426,27 @@ void FullCalibration::refineJointly(const sl_projector::Rig& rig, const std::vec
   applyRefinement(p, r, prims, object.size(), board_poses, out);
 }
 
+std::vector<ImageResidual> FullCalibration::cornerResiduals(const FullCalibrationResult& out) const
+{
+  const std::vector<cv::Point3f> object = board_.objectPoints();
+  std::vector<ImageResidual> res;
+  for (size_t j = 0; j < board_views_.size() && j < out.camera.board_poses.size(); ++j)
+  {
+    const sl_projector::RigidTransform& pose = out.camera.board_poses[j];
+    for (size_t i = 0; i < object.size() && i < board_views_[j].corners.size(); ++i)
+    {
+      const Eigen::Vector3d P(object[i].x, object[i].y, object[i].z);
+      ImageResidual r;
+      r.pixel = Eigen::Vector2d(board_views_[j].corners[i].x, board_views_[j].corners[i].y);
+      r.residual = out.camera.camera.project(pose.rotation * P + pose.translation) - r.pixel;
+      r.view = static_cast<int>(j);
+      if (r.residual.allFinite())
+        res.push_back(r);
+    }
+  }
+  return res;
+}
+
 FullCalibrationResult FullCalibration::calibrate() const
 {
   if (static_cast<int>(plane_views_.size()) < options_.projector.min_views)
@@ -444,8 +465,9 @@ FullCalibrationResult FullCalibration::calibrate() const
   // 4. Everything together, from the separate fits.
   if (options_.joint_refinement)
     refineJointly(rig, corr, board_poses, out);
-  // 5. The rig with the calibrated models and pose.
+  // 5. The rig with the calibrated models and pose, and the corners' residuals.
   out.rig = calibratedRig(rig, out);
+  out.camera_residuals = cornerResiduals(out);
   return out;
 }
 

@@ -491,6 +491,7 @@ PrimitiveFit PlaneCalibration::observe(size_t cell, const std::vector<size_t>& o
   f.row = static_cast<int>(cell) / rig_.pattern.cols;
   f.col = static_cast<int>(cell) % rig_.pattern.cols;
   f.u.assign(nd, kNaN);
+  f.v.assign(nd, kNaN);
   f.depth.assign(nd, kNaN);
   f.linear_residual.assign(nd, kNaN);
   f.rational_residual.assign(nd, kNaN);
@@ -512,6 +513,7 @@ PrimitiveFit PlaneCalibration::observe(size_t cell, const std::vector<size_t>& o
     if (!std::isfinite(z))
       continue;
     f.u[k] = mu;
+    f.v[k] = mv;
     f.depth[k] = z;
     seen_at.push_back(k);
   }
@@ -636,6 +638,33 @@ std::string PlaneCalibrationResult::residualsCsv() const
     o << "\n";
   }
   return o.str();
+}
+
+std::vector<ImageResidual> PlaneCalibrationResult::columnResiduals() const
+{
+  std::vector<ImageResidual> out;
+  for (const PrimitiveFit& f : primitives)
+  {
+    if (!f.rational.valid)
+      continue;
+    const sl_projector::DepthModel& m = f.rational;
+    for (size_t k = 0; k < f.u.size() && k < f.v.size(); ++k)
+    {
+      if (!std::isfinite(f.rational_residual[k]))
+        continue;  // not seen there, or left out of the fit
+      // The column where (a + b u) / (1 + c u) equals the plane's depth z.
+      const double z = f.depth[k];
+      const double u = (m.a - z) / (m.c * z - m.b);
+      if (!std::isfinite(u))
+        continue;
+      ImageResidual r;
+      r.pixel = Eigen::Vector2d(f.u[k], f.v[k]);
+      r.residual = Eigen::Vector2d(u - f.u[k], 0.0);
+      r.view = static_cast<int>(k);
+      out.push_back(r);
+    }
+  }
+  return out;
 }
 
 sl_projector::Rig withTables(const sl_projector::Rig& rig, const PlaneCalibrationResult& result)

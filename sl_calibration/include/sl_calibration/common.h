@@ -55,6 +55,17 @@ struct PrimitiveSample
 };
 
 /**
+ * @brief One reprojection residual in an image: where a point was observed and how far its model
+ * puts it from there.
+ */
+struct ImageResidual
+{
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();     ///< observed position, px (pixel centres at integers)
+  Eigen::Vector2d residual = Eigen::Vector2d::Zero();  ///< predicted minus observed position, px
+  int view = 0;                                        ///< the view it belongs to (board view, distance), from 0
+};
+
+/**
  * @brief The decoded primitives of a decode result: every blob with a (row, col) and a 3D point
  * (so it passed the decoder's depth range and confidence checks).
  */

@@ -42,6 +42,9 @@ struct FullCalibrationResult
   bool refined = false;                   ///< the joint refinement ran (the numbers above are after it)
   std::vector<std::string> plane_views;   ///< names of the plane views, in the order of projector.view_rms
   sl_projector::Rig rig;                  ///< the input rig with camera, projector and projector_pose replaced
+  /// The camera's reprojection residuals of every board corner (projected minus found, px) with the
+  /// final camera model and board poses; `view` indexes camera_views.
+  std::vector<ImageResidual> camera_residuals;
 
   /// @brief A human-readable report: models, reprojection errors per view, pose.
   std::string summary() const;
@@ -145,6 +148,8 @@ private:
   // 4: the joint refinement on the projector fit's inliers; keeps the separate fits if it diverges.
   void refineJointly(const sl_projector::Rig& rig, const std::vector<ProjectorCorrespondence>& corr,
                      std::vector<sl_projector::RigidTransform>& board_poses, FullCalibrationResult& out) const;
+  // 5: the board corners' residuals with the final camera and board poses.
+  std::vector<ImageResidual> cornerResiduals(const FullCalibrationResult& out) const;
 
   sl_projector::Rig rig_;
   Board board_;

@@ -100,6 +100,7 @@ struct PrimitiveFit
   /// Per calibration distance (index into PlaneCalibrationResult::distances): median image column
   /// (NaN where not seen), target depth, and the residuals model - target, m.
   std::vector<double> u, depth, linear_residual, rational_residual;
+  std::vector<double> v;  ///< per calibration distance: median image row, px (NaN where not seen)
 };
 
 /// @brief Residual statistics of one calibration distance.
@@ -135,6 +136,13 @@ struct PlaneCalibrationResult
    * rational residual (mm), and a status (calibrated, too_few_distances, rejected).
    */
   std::string residualsCsv() const;
+  /**
+   * @brief The rational model's residuals in the image: for every calibrated primitive at every
+   * distance its model was fitted on, at its median pixel there, the column where the model puts the
+   * plane's depth minus the column where it was seen (the row residual is 0). `view` is the index
+   * into distances.
+   */
+  std::vector<ImageResidual> columnResiduals() const;
 };
 
 /**

@@ -23,6 +23,7 @@
 
 #include "sl_calibration/full_calibration.h"
 #include "sl_calibration/plane_calibration.h"
+#include "sl_calibration/residual_plot.h"
 #include "sl_params/params.h"
 #include "sl_projector/ros/rig_param.h"
 
@@ -115,6 +116,9 @@ CalibrationParams readParams(const ros::NodeHandle& pnh)
     throw std::invalid_argument("~min_poses: must be >= 3");
   sl_params::readIfSet(pnh, "camera_info_file", p.camera_info_file);
   sl_params::readIfSet(pnh, "camera_info_output", p.camera_info_output);
+  if (p.mode == "full" && !p.residuals_file.empty() && !isPngPath(p.residuals_file))
+    throw std::invalid_argument("~residuals_file: in full mode a picture, the name must end in .png, got '" +
+                                p.residuals_file + "'");
   return p;
 }
 }  // namespace
@@ -352,7 +356,10 @@ private:
       ++next_index_;
     res.success = least > 0;
     res.message = o.str();
-    say("captured " + o.str());
+    ++views_;
+    say("captured view " + std::to_string(views_) +
+        (views_ <= p_.distances.size() ? " of " + std::to_string(p_.distances.size()) : std::string()) + ", plane at " +
+        o.str());
     if (p_.auto_calibrate && !p_.distances.empty() && next_index_ >= p_.distances.size() && least > 0)
     {
       std::string summary;
@@ -411,7 +418,10 @@ private:
       pending_board_ = false;
       res.success = true;
       res.message = name + ": " + std::to_string(samples.size()) + " primitives decoded";
-      say(res.message);
+      say("captured plane pose " + std::to_string(full_->planeViews()) +
+          (full_->planeViews() <= p_.min_poses ? " of " + std::to_string(p_.min_poses)
+                                               : " (" + std::to_string(p_.min_poses) + " needed)") +
+          ": " + std::to_string(samples.size()) + " primitives decoded");
     }
     catch (const std::exception& e)
     {
@@ -438,6 +448,7 @@ private:
     if (full_)
       full_->clear();
     next_index_ = 0;
+    views_ = 0;
     override_distance_ = 0.0;
     pending_board_ = false;
     board_count_ = 0;
@@ -456,7 +467,9 @@ private:
       if (plane_)
       {
         const PlaneCalibrationResult r = plane_->fit();
-        if (!p_.residuals_file.empty())
+        if (isPngPath(p_.residuals_file))
+          writePlaneResidualPlot(p_.residuals_file, r, cv::Size(p_.rig.camera.width, p_.rig.camera.height));
+        else if (!p_.residuals_file.empty())
         {
           std::ofstream csv(p_.residuals_file);
           if (!csv || !(csv << r.residualsCsv()))
@@ -476,6 +489,8 @@ private:
           pending_board_ = false;
         }
         const FullCalibrationResult r = full_->calibrate();
+        if (!p_.residuals_file.empty())
+          writeCameraResidualPlot(p_.residuals_file, r);
         if (!p_.camera_info_output.empty())
           saveCameraInfo(r.rig.camera, p_.camera_info_output);
         sl_projector::saveRig(r.rig, p_.output_file);
@@ -502,6 +517,7 @@ private:
 
   std::mutex work_mutex_;  // captures and fits, one at a time
   size_t next_index_ = 0;
+  size_t views_ = 0;  // plane captures so far
   double override_distance_ = 0.0;
   bool pending_board_ = false;
   std::vector<cv::Point2f> pending_corners_;

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <unistd.h>
+
 #include "sl_calibration/plane_calibration.h"
 #include "sl_projector/tool_args.h"
 
@@ -13,6 +15,31 @@ namespace sl_calibration
 {
 namespace tool
 {
+
+/**
+ * The file name that follows an output option (the current one of @p args): not another option,
+ * ending in @p extension (empty: any), in a folder that exists and may be written, so that a long
+ * run does not end in a file it cannot write. @throws std::invalid_argument naming the option and
+ * the file.
+ */
+inline std::string outputFile(sl_projector::ToolArgs& args, const std::string& extension = "")
+{
+  const std::string option = args.option();
+  const std::string path = args.value();
+  if (path.empty() || path[0] == '-')
+    throw std::invalid_argument(option + " needs a file name, got '" + path + "'");
+  if (!extension.empty() && (path.size() <= extension.size() ||
+                             path.compare(path.size() - extension.size(), extension.size(), extension) != 0))
+    throw std::invalid_argument(option + " " + path + ": the file name must end in " + extension);
+  const size_t slash = path.find_last_of('/');
+  if (slash + 1 == path.size())
+    throw std::invalid_argument(option + " " + path + ": a folder, not a file name");
+  const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  if (access(folder.c_str(), W_OK) != 0)
+    throw std::invalid_argument(option + " " + path + ": cannot write there (" + folder +
+                                " does not exist or may not be written)");
+  return path;
+}
 
 /// The options of both tools: the rig file to start from, the file to write, how known distances
 /// define planes, and the decoder's tolerance for the uncalibrated rig.

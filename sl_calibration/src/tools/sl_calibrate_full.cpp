@@ -8,6 +8,7 @@
 
 #include "calibration_tool.h"
 #include "sl_calibration/full_calibration.h"
+#include "sl_calibration/residual_plot.h"
 
 namespace
 {
@@ -34,6 +35,8 @@ const char* kUsage =
     "  --camera-info FILE    use this camera model (ROS camera_calibration's YAML) instead of\n"
     "                        calibrating the camera; board images then only give plane poses\n"
     "  --camera-info-out FILE  also write the camera model as camera_info YAML (camera driver)\n"
+    "  --residuals FILE.png  also draw the camera's reprojection residuals of the board corners over\n"
+    "                        the image (arrows magnified by the factor in the legend; one colour per view)\n"
     "  --reference R, --normal N  how --plane distances are defined (camera|edge, robot|camera)\n"
     "  --k3                  also estimate k3 (camera and projector; default k3 = 0)\n"
     "  --epipolar-tolerance PX  decoder tolerance for the uncalibrated rig (default 10)\n"
@@ -50,7 +53,7 @@ struct PoseArg
 /// The options of this tool beyond the common ones, and the views.
 struct FullArgs
 {
-  std::string board_size, camera_info, camera_info_out;
+  std::string board_size, camera_info, camera_info_out, residuals;
   double square = 0.0;
   FullCalibrationOptions options;
   std::vector<std::string> camera_views;
@@ -78,6 +81,8 @@ struct FullArgs
       camera_info = args.value();
     else if (a == "--camera-info-out")
       camera_info_out = args.value();
+    else if (a == "--residuals")
+      residuals = tool::outputFile(args, ".png");
     else if (a == "--k3")
       options.camera.fix_k3 = options.projector.fix_k3 = false;
     else if (a == "--no-joint")
@@ -91,6 +96,9 @@ struct FullArgs
   {
     if (board_size.empty() && (!camera_views.empty() || !poses.empty()))
       throw std::invalid_argument("--board and --square are required with board images");
+    if (!residuals.empty() && camera_views.empty() && poses.empty())
+      throw std::invalid_argument("--residuals " + residuals +
+                                  ": the camera's residuals need board images (--camera-view or --pose)");
   }
 
   static PoseArg parsePose(const std::string& v)
@@ -102,25 +110,35 @@ struct FullArgs
   }
 };
 
-/// Adds every view of @p a to @p calibration, saying what was found in each.
+/// Adds every view of @p a to @p calibration, saying what was found in each ("view 3 of 16: ...").
 void addViews(const FullArgs& a, FullCalibration& calibration)
 {
+  std::vector<std::string> camera_files;
   for (const std::string& v : a.camera_views)
     for (const std::string& file : listImages(v))
-    {
-      calibration.addCameraView(file, readGreyImage(file));
-      std::cout << file << ": checkerboard found\n";
-    }
+      camera_files.push_back(file);
+  const size_t views = camera_files.size() + a.poses.size() + a.planes.size();
+  size_t n = 0;
+  auto progress = [&] { return "view " + std::to_string(++n) + " of " + std::to_string(views); };
+  for (const std::string& file : camera_files)
+  {
+    calibration.addCameraView(file, readGreyImage(file));
+    std::cout << progress() << ": " << file << ": checkerboard found" << std::endl;
+  }
   for (const PoseArg& p : a.poses)
   {
     calibration.addPlaneView(p.board, readGreyImage(p.board), p.pattern, readGreyImage(p.pattern));
-    std::cout << p.board << ": checkerboard found; " << p.pattern << ": pattern decoded\n";
+    std::cout << progress() << ", plane pose: " << p.board << ": checkerboard found; " << p.pattern
+              << ": pattern decoded" << std::endl;
   }
   for (const auto& p : a.planes)
   {
     calibration.addDistanceView(p.first, readGreyImage(p.first), p.second);
-    std::cout << p.first << ": pattern decoded, plane at " << fixed(p.second, 3) << " m\n";
+    std::cout << progress() << ", plane at " << fixed(p.second, 3) << " m: " << p.first << ": pattern decoded"
+              << std::endl;
   }
+  std::cout << "calibrating from " << calibration.boardViews() << " board views and " << calibration.planeViews()
+            << " plane views ..." << std::endl;
 }
 
 /// Calibrates and writes the output file(s); @p written is set once the calibration file is.
@@ -150,6 +168,12 @@ void calibrate(const tool::CommonOptions& common, const FullArgs& a, bool& writt
   {
     saveCameraInfo(res.rig.camera, a.camera_info_out);
     std::cout << "wrote " << a.camera_info_out << " (camera_info)\n";
+  }
+  if (!a.residuals.empty())
+  {
+    writeCameraResidualPlot(a.residuals, res);
+    std::cout << "wrote " << a.residuals << " (camera reprojection residuals of " << res.camera_residuals.size()
+              << " board corners)\n";
   }
 }
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "calibration_tool.h"
 #include "sl_calibration/plane_calibration.h"
+#include "sl_calibration/residual_plot.h"
 
 #ifdef SL_CALIBRATION_WITH_ROSBAG
 #include <cv_bridge/cv_bridge.h>
@@ -41,6 +42,10 @@ const char* kUsage =
     "  --max-rms MM     reject primitives whose rational fit leaves more (default 3 mm)\n"
     "  --epipolar-tolerance PX  decoder tolerance for the uncalibrated rig (default 10)\n"
     "  --residuals FILE.csv     write per-primitive residuals (mm) at every distance\n"
+    "  --residuals FILE.png     draw the rational model's residuals over the image: per primitive and\n"
+    "                           distance, the column where its model puts the plane minus the column\n"
+    "                           where it was seen (arrows magnified by the factor in the legend; one\n"
+    "                           colour per distance); give --residuals twice for both files\n"
     "  --topic TOPIC    image topic in bags (default: the only sensor_msgs/Image topic)\n"
     "Exit status: 0 written, 1 calibration failed (nothing written), 2 bad arguments.\n";
 
@@ -155,7 +160,7 @@ int forEachImage(const Source& source, const std::string& topic, const AddImage&
 /// The options of this tool beyond the common ones (the plane options are there too), and the sources.
 struct PlaneArgs
 {
-  std::string residuals_path, topic;
+  std::string residuals_csv, residuals_png, topic;
   std::vector<Source> sources;
 
   bool read(const std::string& a, sl_projector::ToolArgs& args, tool::CommonOptions& common)
@@ -166,7 +171,14 @@ struct PlaneArgs
     else if (a == "--max-rms")
       options.max_rational_rms = args.number() / 1000.0;
     else if (a == "--residuals")
-      residuals_path = args.value();
+    {
+      const std::string path = tool::outputFile(args);
+      std::string& slot = isPngPath(path) ? residuals_png : residuals_csv;
+      if (!slot.empty())
+        throw std::invalid_argument("--residuals " + path + ": a " + (isPngPath(path) ? "picture" : "CSV file") +
+                                    " is asked for already (" + slot + ")");
+      slot = path;
+    }
     else if (a == "--topic")
       topic = args.value();
     else if (!a.empty() && a[0] == '-')
@@ -187,14 +199,18 @@ struct PlaneArgs
   }
 };
 
-/// Decodes every image of every source and adds it to @p calibration, saying how much each gave.
+/// Decodes every image of every source and adds it to @p calibration, saying how much each gave
+/// ("source 2 of 5, plane at 0.600 m: ...").
 void addSources(const PlaneArgs& a, const sl_projector::Rig& rig, double epipolar_tolerance,
                 PlaneCalibration& calibration)
 {
   sl_decoder::Decoder decoder(rig, calibrationDecoderConfig(epipolar_tolerance));
   sl_decoder::DecodeResult result;
-  for (const Source& s : a.sources)
+  for (size_t i = 0; i < a.sources.size(); ++i)
   {
+    const Source& s = a.sources[i];
+    const std::string progress = "source " + std::to_string(i + 1) + " of " + std::to_string(a.sources.size()) +
+                                 ", plane at " + fixed(s.distance, 3) + " m: ";
     forEachImage(s, a.topic,
                  [&](const std::string& name, const cv::Mat& grey)
                  {
@@ -205,7 +221,7 @@ void addSources(const PlaneArgs& a, const sl_projector::Rig& rig, double epipola
                                             std::to_string(rig.camera.height));
                    decoder.decode(grey, result);
                    const int n = calibration.addImage(s.distance, result, name);
-                   std::cout << name << ": " << n << " primitives at " << fixed(s.distance, 3) << " m\n";
+                   std::cout << progress << name << ": " << n << " primitives" << std::endl;
                    if (n == 0)
                      std::cerr << "sl_calibrate_plane: warning: " << name
                                << ": no primitive decoded (projector off? plane not in view? wrong --rig?)\n";
@@ -221,12 +237,17 @@ void calibrate(const tool::CommonOptions& common, const PlaneArgs& a, bool&)
   addSources(a, rig, common.epipolar_tolerance, calibration);
   const PlaneCalibrationResult res = calibration.fit();
   std::cout << "\n" << res.summary();
-  if (!a.residuals_path.empty())
+  if (!a.residuals_csv.empty())
   {
-    std::ofstream csv(a.residuals_path);
+    std::ofstream csv(a.residuals_csv);
     if (!csv || !(csv << res.residualsCsv()))
-      throw CalibrationError(a.residuals_path + ": cannot write the residuals");
-    std::cout << "per-primitive residuals: " << a.residuals_path << "\n";
+      throw CalibrationError(a.residuals_csv + ": cannot write the residuals");
+    std::cout << "per-primitive residuals: " << a.residuals_csv << "\n";
+  }
+  if (!a.residuals_png.empty())
+  {
+    writePlaneResidualPlot(a.residuals_png, res, cv::Size(rig.camera.width, rig.camera.height));
+    std::cout << "residual plot: " << a.residuals_png << "\n";
   }
   sl_projector::saveRig(withTables(rig, res), common.out_path);
   std::cout << "wrote " << common.out_path << " (depth_tables: linear and rational, " << res.calibrated

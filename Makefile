@@ -3,7 +3,8 @@
 #   make test   install what is missing, build, run every test, print "N passed, N failed"
 #   make test-unit  build and run the gtests only (the cores; about a minute once built)
 #   make soak   DURATION (600) s of exploring the room scene: no collision, distance, area and the
-#               manager's resident memory printed, memory flat after the first minutes
+#               manager's resident memory printed, memory flat after the first minutes; a progress
+#               line every minute; the map of the run with the robot's path in SOAK_PNG (catkin_ws/soak_map.png)
 #   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
 #   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run
 # Catkin and the ROS tools need Debian's /usr/bin/python3, not a pyenv shim that may shadow it.
@@ -14,6 +15,7 @@ JOBS  ?= $(shell nproc)
 BUILD_TYPE ?= Release
 FUZZ_SECONDS ?= 30
 DURATION ?= 600
+SOAK_PNG ?= $(WS)/soak_map.png
 ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH PYTHONHOME; source $(WS)/devel/setup.bash
 CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
           -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
@@ -43,10 +45,12 @@ test-asan: deps
 
 soak: build
 	@$(ROSENV); catkin_make -C $(WS) explore_rostest > $(WS)/soak_build.log 2>&1 || { tail -n 30 $(WS)/soak_build.log; exit 1; }; \
+	  rm -f $(SOAK_PNG); \
 	  rostest --text --pkgdir=$(WS)/src/sl_bringup --package=sl_bringup $(WS)/src/sl_bringup/test/explore.test \
 	  scene:=room seed:=$(or $(SEED),7) duration:=$(DURATION) min_travel:=$$(( $(DURATION) / 120 )) \
-	  time_limit:=$$(( $(DURATION) + 180 )) memory_node:=/sl_manager 2>&1 \
-	  | grep -E 'explore |explore memory|min clearance|FAIL|Failure|passed|failed|SUMMARY|RESULT'
+	  time_limit:=$$(( $(DURATION) + 180 )) memory_node:=/sl_manager map_png:=$(SOAK_PNG) 2>&1 \
+	  | grep -E 'explore |explore memory|explore progress|min clearance|FAIL|Failure|PASSED|passed|failed|SUMMARY|RESULT'; \
+	  status=$$?; if [ -f $(SOAK_PNG) ]; then echo "map of the run: $(SOAK_PNG)"; fi; exit $$status
 
 bench: build
 	@$(ROSENV); $(ROOT)/scripts/run_benchmarks.sh $(WS)

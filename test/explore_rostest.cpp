@@ -11,19 +11,25 @@
 //     obstacle nearer the side of the disc, which often only the map remembers, is within -30 mm
 //     and +100 mm of it (the map's 2 cm cells, and the odometry since the obstacle was seen).
 // It prints the path length, the floor area the robot's disc covered, the nearest approach to any
-// object and the number of stops checked (also the 10-minute soak: `make soak`).
+// object and the number of stops checked (also the 10-minute soak: `make soak`); in a run longer than
+// 120 s, a progress line every 60 s. With ~map_png it draws the obstacle node's local maps merged
+// over the run, the true path and the scene's outline into that PNG file (map_picture.h).
 // Private parameters: ~scene (file), ~duration (s), ~min_travel (m), ~min_progress (m), ~clearance (m), ~tolerance (m),
-// ~robot_radius (m, the disc; base_link to the front edge), ~height (m, top of the working window).
+// ~robot_radius (m, the disc; base_link to the front edge), ~height (m, top of the working window),
+// ~map_png (file; empty: no picture).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <nav_msgs/OccupancyGrid.h>
 #include <sl_sim/scene.h>
 
+#include "map_picture.h"
 #include "node_process.h"
 #include "sim_watch.h"
 
@@ -35,10 +41,19 @@ using namespace sl_bringup_test;  // SimWatch and the pose helpers of sim_watch.
 class Explore : public SimWatch
 {
 protected:
+  void TearDown() override
+  {
+    map_sub_.shutdown();
+    SimWatch::TearDown();
+  }
+
   void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
   {
     if (!previous)
       start_ = now;
+    const MapPoint p = startFrame().fromWorld(now.position.x, now.position.y);
+    if (trail_.empty() || std::hypot(p.x - trail_.back().x, p.y - trail_.back().y) >= 0.01)
+      trail_.push_back(p);
     const double yaw0 = yawOf(start_);
     progress_ = std::max(progress_, (now.position.x - start_.position.x) * std::cos(yaw0) +
                                         (now.position.y - start_.position.y) * std::sin(yaw0));
@@ -62,6 +77,45 @@ protected:
     }
     nearest_ = std::min(nearest_, clearanceOf(now));
     coverFootprint(now);
+  }
+
+  /// The frame of the start pose: the odometry's, which the local map uses.
+  MapFrame startFrame() const { return { start_.position.x, start_.position.y, yawOf(start_) }; }
+
+  /// The obstacle node's local map, for ~map_png (it publishes only while someone subscribes).
+  void subscribeMap() { map_sub_ = ros::NodeHandle().subscribe("local_map", 2, &Explore::mapCallback, this); }
+
+  void mapCallback(const nav_msgs::OccupancyGrid& msg)
+  {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    try
+    {
+      explored_.merge(msg.info.origin.position.x, msg.info.origin.position.y, msg.info.resolution,
+                      static_cast<int>(msg.info.width), static_cast<int>(msg.info.height), msg.data);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      ROS_WARN_THROTTLE(10.0, "explore: local_map not merged into the picture: %s", e.what());
+    }
+  }
+
+  /// The picture of ~map_png (call with mutex_ held). @p title: its first line.
+  void writeMapPicture(const std::string& file, const std::string& title)
+  {
+    MapPictureContent content;
+    content.path = trail_;
+    content.title = { title, "map: the obstacle node's local maps merged (odometry frame); path: true pose" };
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    content.outline = sceneOutline(scene_, startFrame(), pictureBox(explored_, content.path, content.margin));
+    try
+    {
+      writePng(drawMapPicture(explored_, content), file);
+      ROS_INFO("explore map picture: %s", file.c_str());
+    }
+    catch (const std::runtime_error& e)
+    {
+      ADD_FAILURE() << "~map_png: " << e.what();
+    }
   }
 
   /// Marks the 5 cm cells under the robot's disc as covered.
@@ -188,6 +242,10 @@ protected:
   // +79.6 mm in 18 runs).
   static constexpr double kSideEarly = 0.10;
   std::vector<double> stop_errors_, side_stop_errors_;
+  std::vector<MapPoint> trail_;  // the true path in the start pose's frame, a point every 1 cm
+  std::mutex map_mutex_;         // guards explored_ (the map's callback runs beside the pose's)
+  ExploredMap explored_;
+  ros::Subscriber map_sub_;
 };
 
 TEST_F(Explore, MovesWhereSafeAndNeverTouches)
@@ -208,6 +266,9 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
     clearance_ = privateParam("clearance", clearance_);
     last_motion_ = ros::WallTime::now();
   }
+  const std::string map_png = ros::param::param<std::string>("~map_png", "");
+  if (!map_png.empty())
+    subscribeMap();
   ASSERT_TRUE(waitForSystem(60.0)) << "no true_pose from create_sim or no obstacle_status";
   // The soak: resident memory of the manager every memory_period s (empty ~memory_node: none).
   const std::string memory_node = ros::param::param<std::string>("~memory_node", "");
@@ -219,16 +280,27 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   }
   std::vector<double> memory;  // MB, one sample per memory_period
   const ros::WallTime run = ros::WallTime::now();
+  const double progress_period = 60.0;  // s between progress lines, in runs longer than 120 s
+  int progress_lines = 0;
   while (ros::ok() && (ros::WallTime::now() - run).toSec() < duration)
   {
-    if (memory_pid > 0 && (ros::WallTime::now() - run).toSec() >= memory_period * memory.size())
+    const double elapsed = (ros::WallTime::now() - run).toSec();
+    if (memory_pid > 0 && elapsed >= memory_period * memory.size())
     {
       memory.push_back(residentMegabytes(memory_pid));
-      ROS_INFO("explore memory: %s resident %.1f MB after %.0f s", memory_node.c_str(), memory.back(),
-               (ros::WallTime::now() - run).toSec());
+      ROS_INFO("explore memory: %s resident %.1f MB after %.0f s", memory_node.c_str(), memory.back(), elapsed);
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      if (duration > 120.0 && elapsed >= progress_period * (progress_lines + 1))
+      {
+        ++progress_lines;
+        char rss[64] = "";
+        if (!memory.empty())
+          std::snprintf(rss, sizeof(rss), ", resident %.1f MB", memory.back());
+        ROS_INFO("explore progress: %.0f / %.0f s, path %.2f m, area covered %.2f m^2%s", elapsed, duration, path_,
+                 covered_.size() * kCell * kCell, rss);
+      }
       if (contact_bits_ != 0 || bumped_ || colliding_messages_ > 0)
         break;
     }
@@ -236,11 +308,19 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   }
   expectNoCollision();
   std::lock_guard<std::mutex> lock(mutex_);
+  const double ran = (ros::WallTime::now() - run).toSec();
   ROS_INFO(
       "explore %s: path %.2f m in %.0f s, area covered %.2f m^2, nearest approach %.3f m, %zu + %zu stops "
       "before obstacles in the path / beside it, states 0x%x",
-      scene_.name.c_str(), path_, (ros::WallTime::now() - run).toSec(), covered_.size() * kCell * kCell, nearest_,
-      stop_errors_.size(), side_stop_errors_.size(), states_seen_);
+      scene_.name.c_str(), path_, ran, covered_.size() * kCell * kCell, nearest_, stop_errors_.size(),
+      side_stop_errors_.size(), states_seen_);
+  if (!map_png.empty())
+  {
+    char title[160];
+    std::snprintf(title, sizeof(title), "%s: %.0f s, path %.1f m, area covered %.2f m^2, nearest approach %.3f m",
+                  scene_.name.c_str(), ran, path_, covered_.size() * kCell * kCell, nearest_);
+    writeMapPicture(map_png, title);
+  }
   EXPECT_EQ(contact_bits_, 0) << "the robot touched something";
   EXPECT_FALSE(bumped_) << "a bumper fired";
   EXPECT_GT(contact_messages_, 0) << "no contact messages: the check above saw nothing";

@@ -534,8 +534,14 @@ int RayClassifier::walkSegment(const Primitive& p, int& last_free_out, int& stop
     // brightness above the frame's dark level; saturation always.
     const int peak = peaks[s.block];
     const float light = static_cast<float>(peak - backgrounds[s.block]);
-    const bool glow =
-        s.z < glow_depth && static_cast<float>(means[s.block] - dark) >= std::max(2.f * noise, k_glow * s.inv_z2);
+    bool glow = false;
+    if (s.z < glow_depth)
+    {
+      const float expected = std::max(2.f * noise, k_glow * s.inv_z2);
+      const int mean = means[s.block], gaps = backgrounds[s.block];
+      glow = static_cast<float>(mean - dark) >= expected &&
+             static_cast<float>(std::max(gaps - dark, mean - gaps)) >= expected;
+    }
     if (peak >= saturated || glow || light >= std::max(noise, k_contrast * s.inv_z2))
     {
       // Someone else's light: a blob identified as another shape, or light at the image border,

@@ -61,7 +61,9 @@ struct RayConfig
   /// m, camera z: far end of the checked segment (>= the decoder's min_depth, <= its max_depth).
   double max_range = 2.5;
   /// m, camera z: nearer than this, defocus smears the pattern into a uniform glow, so a block mean
-  /// above the frame's dark level by the expected glow of a min_albedo surface (the lit fraction of
+  /// above the frame's dark level by the expected glow of a min_albedo surface, when the darkest block
+  /// around or the mean above that block alone reaches it too (a glow, not a far wall's faint focused
+  /// dots over dark gaps; the lit fraction of
   /// the pattern times light_fraction * min_albedo * C1 / z^2, at least twice noise_floor) counts as
   /// light too (0 disables it).
   double glow_max_depth = 0.5;

@@ -12,8 +12,11 @@ status=0
 # taskset pins each run to one core when it is available (the floors are for one core).
 pin=()
 command -v taskset >/dev/null && pin=(taskset -c 0)
-for bin in sl_sim/sl_sim_benchmark sl_evaluation/sl_decoder_benchmark sl_obstacle/sl_obstacle_benchmark \
-           sl_navigation/sl_navigation_benchmark; do
+bins=(sl_sim/sl_sim_benchmark sl_evaluation/sl_decoder_benchmark sl_obstacle/sl_obstacle_benchmark
+      sl_navigation/sl_navigation_benchmark)
+k=0
+for bin in "${bins[@]}"; do
+  k=$((k + 1))
   exe="$ws/devel/lib/$bin"
   name="$(basename "$bin")"
   if [[ ! -x "$exe" ]]; then
@@ -21,7 +24,8 @@ for bin in sl_sim/sl_sim_benchmark sl_evaluation/sl_decoder_benchmark sl_obstacl
     status=1
     continue
   fi
-  echo "== $name"
+  # Progress: each binary takes up to a minute; Google Benchmark prints a line per benchmark.
+  echo "== $name (binary $k of ${#bins[@]}, 10 repetitions of each benchmark)"
   if ! "${pin[@]}" "$exe" --benchmark_repetitions=10 --benchmark_report_aggregates_only=true \
       --benchmark_out="$out/$name.json" --benchmark_out_format=json | tee "$out/$name.txt"; then
     echo "run_benchmarks: $name failed" >&2

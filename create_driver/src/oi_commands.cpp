@@ -1,6 +1,7 @@
 #include "create_driver/oi_commands.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace create_driver
 {
@@ -115,6 +116,42 @@ void appendDriveDirect(Bytes& out, int right_mm_s, int left_mm_s)
   out.push_back(oi::DRIVE_DIRECT);
   oi::appendInt16(out, std::clamp(right_mm_s, -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S));
   oi::appendInt16(out, std::clamp(left_mm_s, -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S));
+}
+
+WheelSpeeds driveRadiusToWheels(int velocity_mm_s, int radius_mm, double wheel_base)
+{
+  const double v = std::clamp(velocity_mm_s, -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S) / 1000.0;
+  WheelSpeeds w;
+  if (radius_mm == oi::RADIUS_TURN_CCW)
+  {
+    w.left = -v;
+    w.right = v;
+  }
+  else if (radius_mm == oi::RADIUS_TURN_CW)
+  {
+    w.left = v;
+    w.right = -v;
+  }
+  else if (radius_mm == 0 || radius_mm < -oi::MAX_RADIUS_MM || radius_mm > oi::MAX_RADIUS_MM)
+  {
+    // Straight (0x8000, 0x7FFF); radii outside the specified range are treated the same way.
+    w.left = v;
+    w.right = v;
+  }
+  else
+  {
+    const double r = radius_mm / 1000.0;
+    w.left = v * (r - 0.5 * wheel_base) / r;
+    w.right = v * (r + 0.5 * wheel_base) / r;
+  }
+  const double largest = std::max(std::fabs(w.left), std::fabs(w.right));
+  const double max_wheel = oi::MAX_VELOCITY_MM_S / 1000.0;
+  if (largest > max_wheel)
+  {
+    w.left *= max_wheel / largest;
+    w.right *= max_wheel / largest;
+  }
+  return w;
 }
 
 void appendSensors(Bytes& out, uint8_t packet_id)

@@ -80,42 +80,6 @@ DriveRadius twistToDriveRadius(double linear, double angular, double wheel_base,
   return d;
 }
 
-WheelSpeeds driveRadiusToWheels(int velocity_mm_s, int radius_mm, double wheel_base)
-{
-  const double v = std::clamp(velocity_mm_s, -oi::MAX_VELOCITY_MM_S, oi::MAX_VELOCITY_MM_S) / 1000.0;
-  WheelSpeeds w;
-  if (radius_mm == oi::RADIUS_TURN_CCW)
-  {
-    w.left = -v;
-    w.right = v;
-  }
-  else if (radius_mm == oi::RADIUS_TURN_CW)
-  {
-    w.left = v;
-    w.right = -v;
-  }
-  else if (radius_mm == 0 || radius_mm < -oi::MAX_RADIUS_MM || radius_mm > oi::MAX_RADIUS_MM)
-  {
-    // Straight (0x8000, 0x7FFF); radii outside the specified range are treated the same way.
-    w.left = v;
-    w.right = v;
-  }
-  else
-  {
-    const double r = radius_mm / 1000.0;
-    w.left = v * (r - 0.5 * wheel_base) / r;
-    w.right = v * (r + 0.5 * wheel_base) / r;
-  }
-  const double largest = std::max(std::fabs(w.left), std::fabs(w.right));
-  const double max_wheel = oi::MAX_VELOCITY_MM_S / 1000.0;
-  if (largest > max_wheel)
-  {
-    w.left *= max_wheel / largest;
-    w.right *= max_wheel / largest;
-  }
-  return w;
-}
-
 VelocityLimiter::VelocityLimiter(const VelocityLimits& limits) : limits_(limits) {}
 
 void VelocityLimiter::reset(double linear, double angular)

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <string>
 
-#include "create_driver/safety.h"
 #include "create_driver/stream_parser.h"
 
 namespace create_driver

@@ -136,6 +136,17 @@ void appendPauseResumeStream(Bytes& out, bool resume);
 /// The robot executes no other command until it has covered the distance.
 void appendWaitDistance(Bytes& out, int distance_mm);
 
+/// Wheel speeds in m/s.
+struct WheelSpeeds
+{
+  double left = 0.0;
+  double right = 0.0;
+};
+
+/// @brief Wheel speeds (m/s) the Create produces for a Drive command (special radii included),
+/// each limited to 0.5 m/s with the ratio kept.
+WheelSpeeds driveRadiusToWheels(int velocity_mm_s, int radius_mm, double wheel_base);
+
 /// @brief Start as a new byte string (convenience for tests and tools).
 Bytes encodeStart();
 /// @brief Drive as a new byte string.

@@ -1,5 +1,5 @@
 /// @file safety.h
-/// @brief Velocity limits, twist-to-OI conversions and the hazard latch.
+/// @brief Velocity limits, twist-to-OI conversions and the hazard latch (the driver's control).
 #pragma once
 
 #include <string>
@@ -17,13 +17,6 @@ struct VelocityLimits
   double max_angular_accel = 6.0;  ///< rad/s^2, |d angular / dt| (0 = unlimited)
   double max_wheel_speed = 0.5;    ///< m/s, per wheel (the OI accepts 500 mm/s)
   double wheel_base = 0.258;       ///< m
-};
-
-/// Wheel speeds in m/s.
-struct WheelSpeeds
-{
-  double left = 0.0;
-  double right = 0.0;
 };
 
 /// A Drive command in OI units.
@@ -47,10 +40,6 @@ WheelSpeeds twistToWheels(double linear, double angular, double wheel_base, doub
 /// negligible or the radius exceeds 2 m, turn in place when the linear speed is negligible.
 /// Wheel speeds are kept within @p max_wheel_speed like twistToWheels().
 DriveRadius twistToDriveRadius(double linear, double angular, double wheel_base, double max_wheel_speed);
-
-/// @brief Wheel speeds (m/s) the Create produces for a Drive command (special radii included),
-/// each limited to 0.5 m/s with the ratio kept.
-WheelSpeeds driveRadiusToWheels(int velocity_mm_s, int radius_mm, double wheel_base);
 
 /// @brief Rate limiter on linear and angular velocity.
 class VelocityLimiter

@@ -1,6 +1,7 @@
 // create_driver/sim: SimRobot behind a pseudo-terminal, stepped on a worker thread. The ROS side
 // only converts: contact/cliff/wheel-drop topics in, true pose and status out, test services.
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -21,7 +22,6 @@
 
 #include "create_driver/SimStatus.h"
 #include "create_driver/pty.h"
-#include "create_driver/serial_link.h"
 #include "create_driver/sim_robot.h"
 #include "sl_params/params.h"
 
@@ -33,6 +33,12 @@ void require(bool ok, const std::string& message)
 {
   if (!ok)
     throw std::invalid_argument(message);
+}
+
+// Seconds on the steady clock: the simulation's time base (wall-clock jumps do not move the robot).
+double steadyNow()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 }  // namespace
 

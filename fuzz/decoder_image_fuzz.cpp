@@ -23,7 +23,7 @@
 #include "plane_view.h"
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace
 {

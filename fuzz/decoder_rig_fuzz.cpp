@@ -5,7 +5,7 @@
 // black, a white, a noise image and the rig's own pattern on a plane at 0.4 and 0.8 m
 // (plane_view.h); with depth tables also in the table depth modes. To keep one input fast, rigs
 // with a camera over kMaxCameraPixels or a projector over kMaxProjectorPixels are skipped: sizes
-// up to the limits of sl_projector/limits.h are accepted by design and only cost time.
+// up to the limits of sl_rig/limits.h are accepted by design and only cost time.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -22,7 +22,7 @@
 #include "plane_view.h"
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace
 {

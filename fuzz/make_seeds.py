@@ -91,7 +91,7 @@ def sim_robot():
           [0] + send(128, 131, 129, 5) + send(148, 1, 6) + step(100) + send(129, 10) + send(148, 1, 6) + step(100))
 
 
-# --- sl_projector / sl_sim: rig and scene files ---------------------------------------------
+# --- sl_rig / sl_sim: rig and scene files ---------------------------------------------
 
 SMALL_RIG = """format_version: 1
 # A 256 x 192 crop of the default camera (same lens): the middle of the default pattern.

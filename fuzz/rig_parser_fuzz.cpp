@@ -1,4 +1,4 @@
-// Fuzz target: sl_projector's parseRig on arbitrary text (the rig / calibration file).
+// Fuzz target: sl_rig's parseRig on arbitrary text (the rig / calibration file).
 //
 // The documented error path is RigFileError; any other exception escapes and counts as a finding.
 // An accepted rig must also pass Rig::validate() and round-trip exactly through rigToYaml() (rig.h).
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fuzz_input.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace
 {

@@ -9,7 +9,8 @@
 #include <sys/stat.h>
 
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+
+#include "sl_rig/mono8.h"
 
 namespace sl_calibration
 {
@@ -54,15 +55,16 @@ cv::Mat readGreyImage(const std::string& path)
   cv::Mat image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (image.empty())
     throw CalibrationError(path + ": cannot read the image (not an image file OpenCV reads?)");
-  if (image.channels() == 3)
-    cv::cvtColor(image, image, cv::COLOR_BGR2GRAY);
-  else if (image.channels() == 4)
-    cv::cvtColor(image, image, cv::COLOR_BGRA2GRAY);
-  if (image.depth() == CV_16U)
-    image.convertTo(image, CV_8U, 1.0 / 256.0);
-  else if (image.depth() != CV_8U)
-    throw CalibrationError(path + ": unsupported pixel type (need 8 or 16 bit)");
-  return image;
+  cv::Mat grey;
+  try
+  {
+    sl_rig::toMono8(image, grey);  // colour to luma, 16 bits to their top 8
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw CalibrationError(path + ": unsupported pixel type (" + e.what() + ")");
+  }
+  return grey;
 }
 
 namespace

@@ -1,6 +1,6 @@
 #pragma once
 // The rig the tests calibrate against: sl_projector's default rig file, read once.
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 inline const sl_projector::Rig& trueRig()
 {

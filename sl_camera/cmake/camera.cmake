@@ -4,7 +4,6 @@
 find_package(Threads REQUIRED)
 
 list(APPEND SL_CAMERA_CORE_SOURCES
-  src/camera/mono8.cpp
   src/camera/player_source.cpp
   src/camera/start_gate.cpp
   src/camera/unreadable_files.cpp

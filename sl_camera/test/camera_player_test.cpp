@@ -15,7 +15,6 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "sl_camera/camera/mono8.h"
 #include "sl_camera/camera/player_source.h"
 #include "sl_camera/camera/start_gate.h"
 #include "sl_camera/camera/unreadable_files.h"
@@ -504,27 +503,5 @@ TEST(CameraPlayer, UnreadableVideoIsAClearError)
   catch (const CameraError& e)
   {
     EXPECT_NE(std::string(e.what()).find(bogus), std::string::npos) << e.what();
-  }
-}
-
-TEST(CameraMono8, ConvertsSupportedTypesAndRejectsOthers)
-{
-  cv::Mat out;
-  sl_camera::toMono8(cv::Mat(2, 2, CV_16UC1, cv::Scalar(4095)), out, 12);
-  EXPECT_EQ(out.type(), CV_8UC1);
-  EXPECT_EQ(out.at<uint8_t>(0, 0), 255);
-  sl_camera::toMono8(cv::Mat(2, 2, CV_16UC1, cv::Scalar(1024)), out, 10);
-  EXPECT_EQ(out.at<uint8_t>(0, 0), 255);
-  sl_camera::toMono8(cv::Mat(2, 2, CV_32FC1, cv::Scalar(0.5)), out);
-  EXPECT_NEAR(out.at<uint8_t>(0, 0), 128, 1);
-  EXPECT_THROW(sl_camera::toMono8(cv::Mat(), out), std::invalid_argument);
-  try
-  {
-    sl_camera::toMono8(cv::Mat(2, 2, CV_8UC2), out);
-    FAIL();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("8UC2"), std::string::npos) << e.what();
   }
 }

@@ -8,7 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "sl_projector/primitives.h"
+#include "sl_rig/primitives.h"
 
 namespace sl_decoder
 {
@@ -856,45 +856,6 @@ void Decoder::computeDepth(DecodeResult& result)
     b.valid = true;
     ++result.valid;
   }
-}
-
-cv::Mat toMono8(const cv::Mat& image, const std::string& encoding, bool& converted)
-{
-  converted = false;
-  if (encoding == "mono8" || encoding == "8UC1")
-  {
-    if (image.type() != CV_8UC1)
-      throw std::invalid_argument("image claims " + encoding + " but is not 8-bit single channel");
-    return image;
-  }
-  converted = true;
-  cv::Mat out;
-  if (encoding == "mono16" || encoding == "16UC1")
-  {
-    if (image.type() != CV_16UC1)
-      throw std::invalid_argument("image claims " + encoding + " but is not 16-bit single channel");
-    double max_value = 0.0;
-    cv::minMaxLoc(image, nullptr, &max_value);
-    // 10- and 12-bit sensors fill only part of the 16 bits: scale the frame's range to 8 bits.
-    image.convertTo(out, CV_8U, 255.0 / std::max(1.0, max_value));
-    return out;
-  }
-  if (encoding == "rgb8" || encoding == "bgr8")
-  {
-    if (image.type() != CV_8UC3)
-      throw std::invalid_argument("image claims " + encoding + " but is not 8-bit three-channel");
-    cv::cvtColor(image, out, encoding == "rgb8" ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
-    return out;
-  }
-  if (encoding == "rgba8" || encoding == "bgra8")
-  {
-    if (image.type() != CV_8UC4)
-      throw std::invalid_argument("image claims " + encoding + " but is not 8-bit four-channel");
-    cv::cvtColor(image, out, encoding == "rgba8" ? cv::COLOR_RGBA2GRAY : cv::COLOR_BGRA2GRAY);
-    return out;
-  }
-  throw std::invalid_argument("unsupported image encoding '" + encoding +
-                              "' (use mono8; mono16, rgb8, bgr8, rgba8 and bgra8 are converted)");
 }
 
 }  // namespace sl_decoder

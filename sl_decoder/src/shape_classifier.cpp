@@ -14,7 +14,7 @@
 #include <immintrin.h>
 #endif
 
-#include "sl_projector/primitives.h"
+#include "sl_rig/primitives.h"
 
 // Summation order. Correlations are compared bit for bit across versions and machines, so every
 // float sum here runs in one order, written out (this file is compiled without reassociation):

@@ -9,7 +9,7 @@
 
 #include "sl_decoder/blob_detector.h"
 #include "sl_decoder/shape_classifier.h"
-#include "sl_projector/primitives.h"
+#include "sl_rig/primitives.h"
 
 using namespace sl_decoder;
 

@@ -13,8 +13,8 @@
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/epipolar_index.h"
 #include "sl_decoder/ray_approach.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
 
 using namespace sl_decoder;
 

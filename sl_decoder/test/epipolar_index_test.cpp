@@ -10,8 +10,8 @@
 
 #include "sl_decoder/decoder_config.h"
 #include "sl_decoder/epipolar_index.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
 
 using namespace sl_decoder;
 

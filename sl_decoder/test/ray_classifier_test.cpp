@@ -14,7 +14,7 @@
 
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 using namespace sl_decoder;
 

@@ -15,7 +15,7 @@
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
 
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace
 {

@@ -1,6 +1,6 @@
 // Checks the projector nodelet in a running system: latched pattern and camera_info, and that bad
 // parameters stop the node with a message naming the parameter. Also the nodelets' rig file
-// parameter (sl_projector/ros/rig_param.h) against the parameter server.
+// parameter (sl_rig/ros/rig_param.h) against the parameter server.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -13,7 +13,7 @@
 #include <sl_testing/errors.h>
 #include <sl_testing/wait.h>
 
-#include "sl_projector/ros/rig_param.h"
+#include "sl_rig/ros/rig_param.h"
 
 using sl_testing::Child;
 using sl_testing::run;

@@ -15,8 +15,8 @@
 
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
 
 namespace
 {

@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "geometry.h"
+#include "sl_rig/checked_yaml.h"
 
 namespace sl_sim
 {
@@ -185,39 +186,6 @@ T scalarValue(const YAML::Node& node, const std::string& key)
   }
 }
 
-void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed, const std::string& prefix)
-{
-  for (const auto& kv : node)
-  {
-    // A key such as `? :` (null) or `[1]` (a list) is not a name; as<std::string>() would throw a
-    // YAML::TypedBadConversion that names neither file nor key.
-    if (!kv.first.IsScalar())
-    {
-      std::string shown = "<empty key>";
-      if (!kv.first.IsNull())
-      {
-        // On one line whatever its style in the file (`? :` is the mapping {~: ~}).
-        YAML::Node key = YAML::Clone(kv.first);
-        key.SetStyle(YAML::EmitterStyle::Flow);
-        YAML::Emitter out;
-        out << key;
-        shown = out.c_str();
-      }
-      throw std::invalid_argument(prefix + shown + ": a key must be a name, not " +
-                                  (kv.first.IsNull() ? "empty" : "a list or a mapping") + " (line " +
-                                  std::to_string(kv.first.Mark().line + 1) + ")");
-    }
-    const std::string key = kv.first.Scalar();
-    if (!allowed.count(key))
-    {
-      std::string list;
-      for (const std::string& a : allowed)
-        list += (list.empty() ? "" : ", ") + a;
-      throw std::invalid_argument(prefix + key + ": unknown key (allowed: " + list + ")");
-    }
-  }
-}
-
 Eigen::Matrix3d rotationFromRpy(const std::vector<double>& rpy)
 {
   return (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
@@ -263,7 +231,7 @@ Texture parseTexture(const YAML::Node& node)
   }
   if (!node.IsMap())
     throw std::invalid_argument("texture: must be a texture name or a mapping with 'type'");
-  checkKeys(node, { "type", "scale", "contrast", "cols", "rows", "square", "dark_albedo" }, "texture.");
+  sl_rig::checkKeys(node, { "type", "scale", "contrast", "cols", "rows", "square", "dark_albedo" }, "texture.");
   if (!node["type"])
     throw std::invalid_argument("texture.type: missing");
   t.type = typeFrom(scalarValue<std::string>(node["type"], "texture.type"));
@@ -311,7 +279,7 @@ void parseObjectBody(const YAML::Node& node, SceneObject& o)
     allowed.insert("size");
   else
     allowed.insert({ "radius", "height" });
-  checkKeys(node, allowed, "");
+  sl_rig::checkKeys(node, allowed, "");
 
   if (!node["position"])
     throw std::invalid_argument("position: missing (centre of the object, [x, y, z] m)");
@@ -386,7 +354,7 @@ Scene parseRoot(const YAML::Node& root, const std::string& source)
 {
   try
   {
-    checkKeys(root, { "format_version", "name", "description", "objects" }, "");
+    sl_rig::checkKeys(root, { "format_version", "name", "description", "objects" }, "");
   }
   catch (const std::invalid_argument& e)
   {

@@ -177,6 +177,8 @@ objects:
       "t.yaml: objects[0] (plane 'p'): colour: unknown key" },
     { "objects: [{type: cylinder, position: [0, 0, 0], radius: 0.1, size: [1, 1, 1]}]\n",
       "t.yaml: objects[0] (cylinder): size: unknown key" },
+    { "objects: [{type: box, position: [0, 0, 0], size: [1, 1, 1], albdeo: 0.5}]\n",
+      "t.yaml: objects[0] (box): albdeo: unknown key, did you mean 'albedo'? (allowed: albedo, floor, " },
     { "objects: [{type: cylinder, position: [0, 0, 0], height: 1}]\n",
       "t.yaml: objects[0] (cylinder): radius: missing" },
     { "objects: [{type: cylinder, position: [0, 0, 0], radius: -1, height: 1}]\n",

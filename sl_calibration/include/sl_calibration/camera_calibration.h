@@ -9,7 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "sl_calibration/common.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace sl_calibration
 {

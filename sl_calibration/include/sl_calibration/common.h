@@ -10,7 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "sl_decoder/decoder.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace sl_calibration
 {

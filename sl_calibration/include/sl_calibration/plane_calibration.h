@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "sl_calibration/common.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace sl_calibration
 {

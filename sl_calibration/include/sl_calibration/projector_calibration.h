@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 
 #include "sl_calibration/common.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
 
 namespace sl_calibration
 {

@@ -25,7 +25,8 @@
 #include "sl_calibration/plane_calibration.h"
 #include "sl_calibration/residual_plot.h"
 #include "sl_params/params.h"
-#include "sl_projector/ros/rig_param.h"
+#include "sl_rig/mono8.h"
+#include "sl_rig/ros/rig_param.h"
 
 namespace sl_calibration
 {
@@ -200,7 +201,7 @@ private:
     {
       bool converted = false;
       cv_bridge::CvImageConstPtr cv = cv_bridge::toCvShare(msg);
-      frames_.push_back(sl_decoder::toMono8(cv->image, msg->encoding, converted).clone());
+      frames_.push_back(sl_rig::toMono8(cv->image, msg->encoding, converted).clone());
       --wanted_;
     }
     catch (const std::exception& e)

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "sl_calibration/plane_calibration.h"
-#include "sl_projector/tool_args.h"
+#include "sl_rig/tool_args.h"
 
 namespace sl_calibration
 {
@@ -22,7 +22,7 @@ namespace tool
  * run does not end in a file it cannot write. @throws std::invalid_argument naming the option and
  * the file.
  */
-inline std::string outputFile(sl_projector::ToolArgs& args, const std::string& extension = "")
+inline std::string outputFile(sl_rig::ToolArgs& args, const std::string& extension = "")
 {
   const std::string option = args.option();
   const std::string path = args.value();
@@ -50,7 +50,7 @@ struct CommonOptions
   double epipolar_tolerance = kCalibrationEpipolarTolerance;
 
   /// Reads @p option if it is one of them; false otherwise.
-  bool read(const std::string& option, sl_projector::ToolArgs& args)
+  bool read(const std::string& option, sl_rig::ToolArgs& args)
   {
     if (option == "--rig")
       rig_path = args.value();
@@ -69,7 +69,7 @@ struct CommonOptions
 };
 
 /// Reads one option of the tool's own; false for an unknown one.
-using ReadOption = std::function<bool(const std::string& option, sl_projector::ToolArgs& args)>;
+using ReadOption = std::function<bool(const std::string& option, sl_rig::ToolArgs& args)>;
 
 /**
  * Runs a calibration tool: reads the arguments (-h / --help prints @p usage; @p common's options,
@@ -83,7 +83,7 @@ inline int run(const std::string& name, const char* usage, int argc, char** argv
 {
   try
   {
-    sl_projector::ToolArgs args(argc, argv);
+    sl_rig::ToolArgs args(argc, argv);
     for (std::string a; args.next(a);)
     {
       if (a == "-h" || a == "--help")
@@ -129,7 +129,7 @@ int run(const std::string& name, const char* usage, int argc, char** argv,
   Args a;
   return run(
       name, usage, argc, argv, common,
-      [&](const std::string& option, sl_projector::ToolArgs& args) { return a.read(option, args, common); },
+      [&](const std::string& option, sl_rig::ToolArgs& args) { return a.read(option, args, common); },
       [&] { a.check(); }, [&](bool& written) { calibrate(common, a, written); });
 }
 

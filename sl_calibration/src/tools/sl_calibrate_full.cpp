@@ -60,7 +60,7 @@ struct FullArgs
   std::vector<PoseArg> poses;
   std::vector<std::pair<std::string, double>> planes;
 
-  bool read(const std::string& a, sl_projector::ToolArgs& args, tool::CommonOptions&)
+  bool read(const std::string& a, sl_rig::ToolArgs& args, tool::CommonOptions&)
   {
     if (a == "--board")
       board_size = args.value();

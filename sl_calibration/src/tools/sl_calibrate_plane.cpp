@@ -11,6 +11,7 @@
 #include "calibration_tool.h"
 #include "sl_calibration/plane_calibration.h"
 #include "sl_calibration/residual_plot.h"
+#include "sl_rig/mono8.h"
 
 #ifdef SL_CALIBRATION_WITH_ROSBAG
 #include <cv_bridge/cv_bridge.h>
@@ -94,7 +95,7 @@ cv::Mat greyImageOf(const rosbag::MessageInstance& m, const std::string& name)
     if (sensor_msgs::Image::ConstPtr img = m.instantiate<sensor_msgs::Image>())
     {
       bool converted = false;
-      grey = sl_decoder::toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
+      grey = sl_rig::toMono8(cv_bridge::toCvShare(img)->image, img->encoding, converted).clone();
     }
     else if (sensor_msgs::CompressedImage::ConstPtr c = m.instantiate<sensor_msgs::CompressedImage>())
       grey = cv::imdecode(c->data, cv::IMREAD_GRAYSCALE);
@@ -163,7 +164,7 @@ struct PlaneArgs
   std::string residuals_csv, residuals_png, topic;
   std::vector<Source> sources;
 
-  bool read(const std::string& a, sl_projector::ToolArgs& args, tool::CommonOptions& common)
+  bool read(const std::string& a, sl_rig::ToolArgs& args, tool::CommonOptions& common)
   {
     PlaneCalibrationOptions& options = common.planes;
     if (a == "--min-distances")

@@ -22,7 +22,7 @@
 #include <arv.h>
 #include <opencv2/imgproc.hpp>
 
-#include "sl_camera/camera/mono8.h"
+#include "sl_rig/mono8.h"
 
 namespace sl_camera
 {
@@ -137,7 +137,10 @@ class Configurer
 {
 public:
   Configurer(ArvCamera* camera, std::string description, std::function<void(const std::string&)> warn)
-    : camera_(camera), device_(arv_camera_get_device(camera)), description_(std::move(description)), warn_(std::move(warn))
+    : camera_(camera),
+      device_(arv_camera_get_device(camera)),
+      description_(std::move(description)),
+      warn_(std::move(warn))
   {
   }
 
@@ -201,8 +204,8 @@ public:
     if (offsets && (x != want_x || y != want_y))
     {
       std::ostringstream msg;
-      msg << description_ << ": asked for the region at offset " << want_x << ", " << want_y
-          << " px, the camera uses " << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
+      msg << description_ << ": asked for the region at offset " << want_x << ", " << want_y << " px, the camera uses "
+          << x << ", " << y << " px (sensor " << sensor_w << " x " << sensor_h << " px)";
       warn_(msg.str());
     }
   }
@@ -603,7 +606,7 @@ GrabStatus AravisSource::grab(Frame& frame, std::chrono::milliseconds timeout)
   else if (colour >= 0)
     cv::cvtColor(raw, frame.image, colour);
   else
-    toMono8(raw, frame.image, bits);
+    sl_rig::toMono8(raw, frame.image, bits);
 
   const guint64 system_ns = arv_buffer_get_system_timestamp(buffer);
   frame.stamp = system_ns > 0 ? CaptureClock::time_point(std::chrono::duration_cast<CaptureClock::duration>(

@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "sl_camera/camera/mono8.h"
+#include "sl_rig/mono8.h"
 
 namespace fs = std::filesystem;
 
@@ -231,7 +231,7 @@ GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
     }
     try
     {
-      toMono8(video_frame_, frame.image);
+      sl_rig::toMono8(video_frame_, frame.image);
     }
     catch (const std::invalid_argument& e)
     {
@@ -262,7 +262,7 @@ GrabStatus PlayerSource::grab(Frame& frame, std::chrono::milliseconds timeout)
     }
     try
     {
-      toMono8(raw, frame.image);
+      sl_rig::toMono8(raw, frame.image);
     }
     catch (const std::invalid_argument& e)
     {

@@ -12,7 +12,7 @@
 
 #include <opencv2/videoio.hpp>
 
-#include "sl_camera/camera/mono8.h"
+#include "sl_rig/mono8.h"
 
 namespace sl_camera
 {
@@ -185,7 +185,7 @@ GrabStatus V4l2Source::grab(Frame& frame, std::chrono::milliseconds /*timeout*/)
   failures_in_row_ = 0;
   try
   {
-    toMono8(raw_, frame.image);
+    sl_rig::toMono8(raw_, frame.image);
   }
   catch (const std::invalid_argument& e)
   {

@@ -27,7 +27,7 @@
 #include "sl_camera/camera/player_source.h"
 #include "sl_camera/camera/start_gate.h"
 #include "sl_camera/camera/unreadable_files.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 #include "sl_params/params.h"
 
 namespace sl_camera

@@ -20,9 +20,9 @@
 #include "sl_decoder/epipolar_index.h"
 #include "sl_decoder/ray_approach.h"
 #include "sl_decoder/shape_classifier.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/word_table.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/word_table.h"
+#include "sl_rig/rig.h"
 
 namespace sl_decoder
 {
@@ -87,7 +87,7 @@ public:
   /**
    * @brief Prepares the decoder for a rig.
    * @throws std::invalid_argument for an invalid config or rig (e.g. a camera over the image size
-   * limits of sl_projector/limits.h), or a depth mode whose tables the rig lacks.
+   * limits of sl_rig/limits.h), or a depth mode whose tables the rig lacks.
    */
   Decoder(const sl_projector::Rig& rig, const DecoderConfig& config = DecoderConfig());
   ~Decoder();
@@ -244,15 +244,5 @@ private:
   size_t grid_cells_ = 0;  // grid_w_ * grid_h_, computed once in 64 bits
   double grid_cell_ = 1.0;
 };
-
-/**
- * @brief Converts an image to mono8 for the decoder.
- * @param encoding ROS encoding name: mono8 is used as is; mono16 (scaled to the frame's maximum
- *        when it is below 256 * 256, else by 1/256), rgb8, bgr8, rgba8, bgra8 are converted.
- * @param[out] converted set to true when a conversion happened.
- * @return the mono8 image (shares data for mono8).
- * @throws std::invalid_argument naming the encoding when it is not supported.
- */
-cv::Mat toMono8(const cv::Mat& image, const std::string& encoding, bool& converted);
 
 }  // namespace sl_decoder

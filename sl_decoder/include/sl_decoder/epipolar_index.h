@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 
 #include "sl_decoder/decoder_config.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
 
 namespace sl_decoder
 {

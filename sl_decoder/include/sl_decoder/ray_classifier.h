@@ -14,7 +14,7 @@
 
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/decoder_config.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace sl_decoder
 {

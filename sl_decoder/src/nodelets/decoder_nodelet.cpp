@@ -29,7 +29,8 @@
 #include "sl_decoder/ray_classifier.h"
 #include "sl_msgs/ray_ends.h"
 #include "sl_params/params.h"
-#include "sl_projector/ros/rig_param.h"
+#include "sl_rig/mono8.h"
+#include "sl_rig/ros/rig_param.h"
 
 namespace sl_decoder
 {
@@ -238,7 +239,7 @@ private:
     {
       bool converted = false;
       const cv_bridge::CvImageConstPtr cv = cv_bridge::toCvShare(msg);
-      mono = toMono8(cv->image, msg->encoding, converted);
+      mono = sl_rig::toMono8(cv->image, msg->encoding, converted);
       if (converted && !warned_conversion_)
       {
         NODELET_WARN("converting %s images to mono8 (publish mono8 to avoid the cost)", msg->encoding.c_str());

@@ -11,7 +11,8 @@
 
 #include "sl_decoder/decoder.h"
 #include "sl_decoder/ray_classifier.h"
-#include "sl_projector/tool_args.h"
+#include "sl_rig/mono8.h"
+#include "sl_rig/tool_args.h"
 
 namespace
 {
@@ -57,7 +58,7 @@ int main(int argc, char** argv)
   int repeat = 1;
   try
   {
-    sl_projector::ToolArgs args(argc, argv);
+    sl_rig::ToolArgs args(argc, argv);
     for (std::string a; args.next(a);)
     {
       if (a == "--calibration")
@@ -114,7 +115,7 @@ int main(int argc, char** argv)
         throw std::invalid_argument("image '" + image_path + "' has an unsupported pixel type");
     }
     bool converted = false;
-    const cv::Mat mono = sl_decoder::toMono8(raw, encoding, converted);
+    const cv::Mat mono = sl_rig::toMono8(raw, encoding, converted);
     if (converted)
       std::cerr << "sl_decode: converted " << encoding << " to mono8\n";
 

@@ -16,7 +16,7 @@
 
 #include "sl_evaluation/calibration_simulation.h"
 #include "sl_params/params.h"
-#include "sl_projector/ros/rig_param.h"
+#include "sl_rig/ros/rig_param.h"
 
 namespace sl_evaluation
 {

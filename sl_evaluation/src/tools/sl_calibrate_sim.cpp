@@ -13,7 +13,7 @@
 
 #include "sl_calibration/full_calibration.h"
 #include "sl_evaluation/calibration_simulation.h"
-#include "sl_projector/tool_args.h"
+#include "sl_rig/tool_args.h"
 
 namespace
 {
@@ -95,7 +95,7 @@ int main(int argc, char** argv)
   double board_ambient = 0.6;
   try
   {
-    sl_projector::ToolArgs args(argc, argv, 2);  // after the command
+    sl_rig::ToolArgs args(argc, argv, 2);  // after the command
     for (std::string a; args.next(a);)
     {
       if (a == "--rig")

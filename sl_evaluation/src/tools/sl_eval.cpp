@@ -13,7 +13,7 @@
 
 #include "sl_evaluation/evaluation.h"
 #include "sl_evaluation/plot.h"
-#include "sl_projector/tool_args.h"
+#include "sl_rig/tool_args.h"
 
 namespace
 {
@@ -115,7 +115,7 @@ double sceneFileDistance(const std::string& file)
 /// Reads the options; false for --help (the usage printed).
 bool parseOptions(int argc, char** argv, Options& o)
 {
-  sl_projector::ToolArgs args(argc, argv);
+  sl_rig::ToolArgs args(argc, argv);
   for (std::string a; args.next(a);)
   {
     if (a == "--calibration")

@@ -1,7 +1,7 @@
 #pragma once
 /// @file dlp_pico.h
 /// @brief Set-up of a TI DLP Pico projector (DLPC2607 controller) over Linux i2c-dev (ROS-free).
-/// Private to sl_projector (library sl_projector_device): not installed, not part of sl_projector_core.
+/// Private to sl_projector (library sl_projector_device): not installed, not exported.
 
 #include <cstdint>
 #include <string>

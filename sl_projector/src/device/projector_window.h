@@ -1,7 +1,7 @@
 #pragma once
 /// @file projector_window.h
 /// @brief A borderless X11 window that shows a frame pixel for pixel on the projector screen.
-/// Private to sl_projector (library sl_projector_device): not installed, not part of sl_projector_core.
+/// Private to sl_projector (library sl_projector_device): not installed, not exported.
 
 #include <memory>
 #include <string>

@@ -15,8 +15,8 @@
 
 #include "device/dlp_pico.h"
 #include "device/projector_window.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
 #include "sl_params/params.h"
 
 namespace sl_projector

@@ -8,9 +8,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "device/dlp_pico.h"
-#include "sl_projector/de_bruijn.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/tool_args.h"
+#include "sl_rig/de_bruijn.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/tool_args.h"
 
 namespace
 {
@@ -58,7 +58,7 @@ int main(int argc, char** argv)
   std::string png;
   try
   {
-    sl_projector::ToolArgs args(argc, argv);
+    sl_rig::ToolArgs args(argc, argv);
     for (std::string a; args.next(a);)
     {
       if (a == "--sequences")

@@ -11,7 +11,7 @@
 
 #include "sl_sim/scene.h"
 #include "sl_sim/sim_settings.h"
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace sl_sim
 {

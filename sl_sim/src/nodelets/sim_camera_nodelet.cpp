@@ -29,7 +29,7 @@
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
 #include "sl_sim/sim_settings.h"
-#include "sl_projector/ros/rig_param.h"
+#include "sl_rig/ros/rig_param.h"
 #include "sl_params/params.h"
 
 namespace sl_sim

@@ -16,9 +16,9 @@
 #include "sl_sim/renderer.h"
 #include "sl_sim/scene.h"
 #include "sl_sim/sim_settings.h"
-#include "sl_projector/pattern.h"
-#include "sl_projector/rig.h"
-#include "sl_projector/tool_args.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/rig.h"
+#include "sl_rig/tool_args.h"
 
 namespace
 {
@@ -131,7 +131,7 @@ int main(int argc, char** argv)
   Eigen::Vector3d pose(0.0, 0.0, 0.0);
   try
   {
-    sl_projector::ToolArgs args(argc, argv);
+    sl_rig::ToolArgs args(argc, argv);
     for (std::string a; args.next(a);)
     {
       if (a == "--help" || a == "-h")

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "sl_projector/pattern_array.h"
+#include "sl_rig/pattern_array.h"
 
 using sl_projector::PatternArray;
 using sl_projector::wrapAdd;

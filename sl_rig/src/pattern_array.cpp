@@ -1,9 +1,9 @@
-#include "sl_projector/pattern_array.h"
+#include "sl_rig/pattern_array.h"
 
 #include <stdexcept>
 #include <string>
 
-#include "sl_projector/de_bruijn.h"
+#include "sl_rig/de_bruijn.h"
 
 namespace sl_projector
 {

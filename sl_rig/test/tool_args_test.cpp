@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sl_projector/tool_args.h"
+#include "sl_rig/tool_args.h"
 
 namespace
 {
@@ -17,7 +17,7 @@ std::string parse(std::vector<std::string> words, F read)
     argv.push_back(&w[0]);
   try
   {
-    sl_projector::ToolArgs args(static_cast<int>(argv.size()), argv.data());
+    sl_rig::ToolArgs args(static_cast<int>(argv.size()), argv.data());
     read(args);
   }
   catch (const std::invalid_argument& e)
@@ -34,7 +34,7 @@ TEST(ToolArgs, OptionsValuesAndNumbers)
   long long frames = 0;
   double ambient = 0.0;
   const std::string error = parse({ "--csv", "out.csv", "--flag", "--frames", "12", "--ambient", "-0.25" },
-                                  [&](sl_projector::ToolArgs& args)
+                                  [&](sl_rig::ToolArgs& args)
                                   {
                                     for (std::string a; args.next(a);)
                                       if (a == "--csv")
@@ -57,7 +57,7 @@ TEST(ToolArgs, OptionsValuesAndNumbers)
 
 TEST(ToolArgs, BadInputIsRefusedNamingTheOption)
 {
-  const auto readFrames = [](sl_projector::ToolArgs& args)
+  const auto readFrames = [](sl_rig::ToolArgs& args)
   {
     for (std::string a; args.next(a);)
       if (a == "--frames")

@@ -1,4 +1,4 @@
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 #include <cmath>
 #include <limits>

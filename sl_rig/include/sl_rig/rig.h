@@ -12,8 +12,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "sl_projector/limits.h"
-#include "sl_projector/pattern.h"
+#include "sl_rig/limits.h"
+#include "sl_rig/pattern.h"
 
 namespace sl_projector
 {
@@ -165,10 +165,10 @@ public:
 };
 
 /**
- * @brief Loads a rig (calibration) file. See sl_projector/README.md ("Rig file") for the format.
+ * @brief Loads a rig (calibration) file. See sl_rig/README.md ("Rig file") for the format.
  * @throws RigFileError if the file is missing, malformed or inconsistent (also a key of the wrong
- * YAML type, e.g. `mount: 1`); the message names the file and the key. No yaml-cpp exception
- * escapes.
+ * YAML type, e.g. `mount: 1`, and a key the format does not have, checked by sl_rig::checkKeys());
+ * the message names the file and the key. No yaml-cpp exception escapes.
  */
 Rig loadRig(const std::string& path);
 

@@ -1,8 +1,8 @@
 #pragma once
 /// @file rig_param.h
 /// @brief The rig file parameter of the nodelets that need the rig (ROS side, header-only; not part
-/// of the ROS-free sl_projector_core). A consumer includes it from a nodelet and finds roscpp and
-/// sl_params itself (both header dependencies only: nothing more to link than sl_projector_core).
+/// of the ROS-free sl_rig_core). A consumer includes it from a nodelet and finds roscpp and
+/// sl_params itself (both header dependencies only: nothing more to link than sl_rig_core).
 
 #include <stdexcept>
 #include <string>
@@ -10,7 +10,7 @@
 #include <ros/node_handle.h>
 #include <sl_params/params.h>
 
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 namespace sl_projector
 {

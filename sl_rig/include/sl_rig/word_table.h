@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sl_projector/pattern_array.h"
+#include "sl_rig/pattern_array.h"
 
 namespace sl_projector
 {

@@ -6,11 +6,13 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
-#include "sl_projector/rig.h"
+#include "sl_rig/checked_yaml.h"
+#include "sl_rig/rig.h"
 
 namespace sl_projector
 {
@@ -28,6 +30,22 @@ void requireMap(const YAML::Node& node, const std::string& path, const std::stri
 {
   if (!node.IsMap())
     fail(source, path.empty() ? std::string("<top level>") : path, "must be a mapping");
+}
+
+// Refuses a key of mapping @p node outside @p allowed (a misspelt optional key must not leave its
+// default in place unnoticed).
+void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed, const std::string& path,
+               const std::string& source)
+{
+  requireMap(node, path, source);
+  try
+  {
+    sl_rig::checkKeys(node, allowed, path.empty() ? std::string() : path + ".");
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw RigFileError(source + ": " + e.what());
+  }
 }
 
 YAML::Node child(const YAML::Node& node, const std::string& name, const std::string& path, const std::string& source)
@@ -105,6 +123,7 @@ std::vector<double> numbers(const YAML::Node& node, const std::string& name, con
 PinholeModel readPinhole(const YAML::Node& root, const std::string& name, const std::string& source)
 {
   const YAML::Node n = child(root, name, "", source);
+  checkKeys(n, { "width", "height", "K", "D" }, name, source);
   PinholeModel m;
   m.width = scalar<int>(n, "width", name, source);
   m.height = scalar<int>(n, "height", name, source);
@@ -137,6 +156,8 @@ std::vector<DepthModel> readModels(const YAML::Node& tables, const std::string& 
   if (!t)
     return out;
   const std::string path = "depth_tables." + name;
+  checkKeys(t, rational ? std::set<std::string>{ "a", "b", "c", "rms" } : std::set<std::string>{ "a", "b", "rms" },
+            path, source);
   const std::vector<double> a = numbers(t, "a", path, source, count, count);
   const std::vector<double> b = numbers(t, "b", path, source, count, count);
   const std::vector<double> c =
@@ -251,6 +272,8 @@ namespace
 {
 Rig parseRoot(const YAML::Node& root, const std::string& source)
 {
+  checkKeys(root, { "format_version", "camera", "projector", "projector_pose", "pattern", "mount", "depth_tables" }, "",
+            source);
   const int version = scalar<int>(root, "format_version", "", source);
   if (version != 1)
     fail(source, "format_version", "is " + std::to_string(version) + ", this software reads version 1");
@@ -260,11 +283,16 @@ Rig parseRoot(const YAML::Node& root, const std::string& source)
   rig.projector = readPinhole(root, "projector", source);
 
   const YAML::Node pose = child(root, "projector_pose", "", source);
+  checkKeys(pose, { "rotation", "translation" }, "projector_pose", source);
   const std::vector<double> R = numbers(pose, "rotation", "projector_pose", source, 9, 9);
   rig.projector_pose.rotation << R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8];
   rig.projector_pose.translation = vec3(pose, "translation", "projector_pose", source);
 
   const YAML::Node p = child(root, "pattern", "", source);
+  checkKeys(p,
+            { "rows", "cols", "primitive_width", "primitive_height", "gap_x", "gap_y", "offset_x", "offset_y", "flip_x",
+              "flip_y" },
+            "pattern", source);
   PatternConfig& pc = rig.pattern;
   pc.rows = scalar<int>(p, "rows", "pattern", source);
   pc.cols = scalar<int>(p, "cols", "pattern", source);
@@ -281,7 +309,7 @@ Rig parseRoot(const YAML::Node& root, const std::string& source)
 
   if (const YAML::Node m = optionalChild(root, "mount", "", source))
   {
-    requireMap(m, "mount", source);
+    checkKeys(m, { "parent_frame", "xyz", "rpy" }, "mount", source);
     rig.mount.parent_frame = scalarOr<std::string>(m, "parent_frame", "mount", source, rig.mount.parent_frame);
     rig.mount.xyz = vec3(m, "xyz", "mount", source);
     rig.mount.rpy = vec3(m, "rpy", "mount", source);
@@ -289,7 +317,7 @@ Rig parseRoot(const YAML::Node& root, const std::string& source)
 
   if (const YAML::Node t = optionalChild(root, "depth_tables", "", source))
   {
-    requireMap(t, "depth_tables", source);
+    checkKeys(t, { "distances", "linear", "rational" }, "depth_tables", source);
     const size_t cells = static_cast<size_t>(std::max(0, pc.rows)) * static_cast<size_t>(std::max(0, pc.cols));
     if (optionalChild(t, "distances", "depth_tables", source))
       rig.tables.distances = numbers(t, "distances", "depth_tables", source, 0, 1000);
@@ -454,7 +482,7 @@ std::string rigToYaml(const Rig& rig)
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
-  return std::string("# structured-light rig calibration (sl_projector rig file, see README)\n") + out.c_str() + "\n";
+  return std::string("# structured-light rig calibration (rig file: sl_rig/README.md)\n") + out.c_str() + "\n";
 }
 
 void saveRig(const Rig& rig, const std::string& path)

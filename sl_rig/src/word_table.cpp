@@ -1,4 +1,4 @@
-#include "sl_projector/word_table.h"
+#include "sl_rig/word_table.h"
 
 #include <stdexcept>
 #include <string>

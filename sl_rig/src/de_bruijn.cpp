@@ -1,4 +1,4 @@
-#include "sl_projector/de_bruijn.h"
+#include "sl_rig/de_bruijn.h"
 
 #include <stdexcept>
 

@@ -1,9 +1,9 @@
-#include "sl_projector/pattern.h"
+#include "sl_rig/pattern.h"
 
 #include <stdexcept>
 #include <string>
 
-#include "sl_projector/primitives.h"
+#include "sl_rig/primitives.h"
 
 namespace sl_projector
 {

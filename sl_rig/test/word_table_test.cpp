@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sl_projector/word_table.h"
+#include "sl_rig/word_table.h"
 
 using sl_projector::GridPos;
 using sl_projector::PatternArray;

@@ -6,9 +6,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "sl_projector/limits.h"
-#include "sl_projector/pattern_array.h"
-#include "sl_projector/word_table.h"
+#include "sl_rig/limits.h"
+#include "sl_rig/pattern_array.h"
+#include "sl_rig/word_table.h"
 
 namespace sl_projector
 {

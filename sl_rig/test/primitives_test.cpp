@@ -5,7 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "sl_projector/primitives.h"
+#include "sl_rig/primitives.h"
 
 using namespace sl_projector;
 

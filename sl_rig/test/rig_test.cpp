@@ -1,17 +1,27 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
-#include "sl_projector/rig.h"
+#include "sl_rig/rig.h"
 
 using namespace sl_projector;
 
 namespace
 {
 const std::string kDefaultRig = std::string(SL_PROJECTOR_CONFIG_DIR) + "/default_rig.yaml";
+// Pieces of the default rig file the tests replace.
+const std::string kCameraK = "  K: [1492.0, 0.0, 372.0, 0.0, 1492.0, 243.0, 0.0, 0.0, 1.0]";
+const std::string kPatternBlock =
+    "pattern:\n  rows: 16\n  cols: 64\n  primitive_width: 5\n  primitive_height: 9\n"
+    "  gap_x: 2\n  gap_y: 6\n  offset_x: 0\n  offset_y: 0\n  flip_x: false\n  flip_y: false\n";
 
 std::string readFile(const std::string& path)
 {
@@ -209,7 +219,7 @@ TEST(Rig, BadFilesNameTheKey)
   const std::string good = readFile(kDefaultRig);
   ASSERT_EQ(parseError(good), "");
 
-  EXPECT_NE(parseError(replaced(good, "  K: [1492.0", "  Kx: [1492.0")).find("camera.K: missing"), std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "  width: 752\n", "")).find("camera.width: missing"), std::string::npos);
   EXPECT_NE(parseError(replaced(good, "[1492.0, 0.0, 372.0, 0.0, 1492.0, 243.0, 0.0, 0.0, 1.0]", "[1492.0, 0.0]"))
                 .find("camera.K: has 2 numbers, expected 9"),
             std::string::npos);
@@ -227,7 +237,7 @@ TEST(Rig, BadFilesNameTheKey)
             std::string::npos);
   EXPECT_NE(parseError(replaced(good, "cols: 64", "cols: 70")).find("pattern."), std::string::npos);
   EXPECT_NE(parseError(replaced(good, "D: [0.02", "D: [.nan")).find("projector.D"), std::string::npos);
-  EXPECT_NE(parseError(replaced(good, "pattern:", "patterns:")).find("pattern: missing"), std::string::npos);
+  EXPECT_EQ(parseError(replaced(good, kPatternBlock, "")), "test.yaml: pattern: missing");
   EXPECT_NE(parseError("camera: [1, 2").find("not valid YAML"), std::string::npos);
   EXPECT_NE(parseError("").find("must be a mapping"), std::string::npos);
   EXPECT_NE(parseError(good + "depth_tables:\n  linear: {a: [1, 2], b: [1, 2], rms: [0, 0]}\n")
@@ -315,7 +325,91 @@ TEST(Rig, WrongNodeTypesNameTheFileAndKey)
   EXPECT_EQ(parseError(tables_5), "test.yaml: depth_tables: must be a mapping");
   EXPECT_EQ(parseError(replaced(good, mount, "mount: [1, 2]")), "test.yaml: mount: must be a mapping");
   EXPECT_EQ(parseError(good + "depth_tables: {linear: 3}\n"), "test.yaml: depth_tables.linear: must be a mapping");
-  EXPECT_EQ(parseError(replaced(good, "pattern:", "pattern: 7\nunused:")), "test.yaml: pattern: must be a mapping");
-  EXPECT_EQ(parseError(replaced(good, "  K: [1492.0", "  K: {a: 1}\n  Kx: [1492.0")),
-            "test.yaml: camera.K: must be a list of numbers");
+  EXPECT_EQ(parseError(replaced(good, kPatternBlock, "pattern: 7\n")), "test.yaml: pattern: must be a mapping");
+  EXPECT_EQ(parseError(replaced(good, kCameraK, "  K: {a: 1}")), "test.yaml: camera.K: must be a list of numbers");
+}
+
+// A misspelt optional key must not leave its default in place unnoticed: every mapping has its keys.
+TEST(Rig, UnknownKeysAreRefusedNamingTheFileAndKey)
+{
+  const std::string good = readFile(kDefaultRig);
+  EXPECT_EQ(parseError(good + "lens: 8.95\n"),
+            "test.yaml: lens: unknown key (allowed: camera, depth_tables, format_version, mount, pattern, projector, "
+            "projector_pose)");
+  EXPECT_EQ(parseError(replaced(good, kPatternBlock, "patterns:" + kPatternBlock.substr(8))),
+            "test.yaml: patterns: unknown key, did you mean 'pattern'? (allowed: camera, depth_tables, format_version, "
+            "mount, pattern, projector, projector_pose)");
+  EXPECT_EQ(parseError(replaced(good, kCameraK, "  Kx: [1, 0, 1, 0, 1, 1, 0, 0, 1]\n" + kCameraK)),
+            "test.yaml: camera.Kx: unknown key, did you mean 'K'? (allowed: D, K, height, width)");
+  EXPECT_EQ(
+      parseError(replaced(good, "  flip_y: false", "  flipy: true"))
+          .rfind("test.yaml: pattern.flipy: unknown key, did you mean 'flip_y'? (allowed: cols, flip_x, flip_y, ", 0),
+      0u);
+  EXPECT_EQ(parseError(replaced(good, "  xyz: [", "  xzy: [")),
+            "test.yaml: mount.xzy: unknown key, did you mean 'xyz'? (allowed: parent_frame, rpy, xyz)");
+  EXPECT_EQ(parseError(replaced(good, "  translation: [", "  offset: [0, 0, 0]\n  translation: [")),
+            "test.yaml: projector_pose.offset: unknown key (allowed: rotation, translation)");
+  EXPECT_EQ(parseError(replaced(good, "  width: 480", "  width: 480\n  camera_name: dlp"))
+                .rfind("test.yaml: projector.camera_name: unknown key", 0),
+            0u);
+  EXPECT_EQ(parseError(good + "depth_tables:\n  distance: [0.5]\n"),
+            "test.yaml: depth_tables.distance: unknown key, did you mean 'distances'? (allowed: distances, linear, "
+            "rational)");
+  // The linear model has no c; the keys are checked before the 1024 numbers are read.
+  EXPECT_EQ(parseError(good + "depth_tables:\n  linear: {a: [], b: [], c: [], rms: []}\n"),
+            "test.yaml: depth_tables.linear.c: unknown key (allowed: a, b, rms)");
+  EXPECT_EQ(parseError(good + "? [1]\n: 2\n"),
+            "test.yaml: [1]: a key must be a name, not a list or a mapping (line 54)");
+
+  // From a file: the message starts with its path.
+  const std::string path = ::testing::TempDir() + "/sl_rig_unknown_key.yaml";
+  std::ofstream(path) << replaced(good, "  gap_x: 2", "  gapx: 2");
+  try
+  {
+    loadRig(path);
+    FAIL() << "gapx accepted";
+  }
+  catch (const RigFileError& e)
+  {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": pattern.gapx: unknown key, did you mean 'gap_x'?", 0), 0u)
+        << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+// Every rig file of the repository loads: the configurations, the tests' rigs and the fuzzers' seeds
+// (a rig file is a YAML file with `projector_pose:`). Only the seed that is refused on purpose is not.
+TEST(Rig, EveryRigFileOfTheRepositoryLoads)
+{
+  namespace fs = std::filesystem;
+  const std::set<std::string> refused = { "parent_frame_binary_round_trip.yaml" };  // control bytes in a frame name
+  std::vector<std::string> loaded;
+  const fs::path root(SL_RIG_REPOSITORY_DIR);
+  for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it)
+  {
+    const fs::path& p = it->path();
+    if (it->is_directory() && (p.filename() == ".git" || p.filename() == "catkin_ws"))
+    {
+      it.disable_recursion_pending();  // build trees and the workspace's links to the packages
+      continue;
+    }
+    if (!it->is_regular_file() || p.extension() != ".yaml" ||
+        readFile(p.string()).find("projector_pose:") == std::string::npos)
+      continue;
+    if (refused.count(p.filename().string()))
+    {
+      EXPECT_THROW(loadRig(p.string()), RigFileError) << p;
+      continue;
+    }
+    EXPECT_NO_THROW(loadRig(p.string())) << p;
+    loaded.push_back(p.lexically_relative(root).string());
+  }
+  std::string list;
+  for (const std::string& f : loaded)
+    list += "  " + f + "\n";
+  std::cout << loaded.size() << " rig files loaded:\n" << list;
+  // Measured: 12 (sl_projector/config, sl_evaluation/test/rigs, fuzz/corpus/rig_parser and decoder_rig).
+  EXPECT_GE(loaded.size(), 12u);
+  EXPECT_NE(list.find("sl_projector/config/default_rig.yaml"), std::string::npos) << list;
+  EXPECT_NE(list.find("sl_evaluation/test/rigs/second_rig.yaml"), std::string::npos) << list;
 }

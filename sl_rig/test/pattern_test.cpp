@@ -7,8 +7,8 @@
 
 #include <sl_testing/errors.h>
 
-#include "sl_projector/pattern.h"
-#include "sl_projector/primitives.h"
+#include "sl_rig/pattern.h"
+#include "sl_rig/primitives.h"
 
 using namespace sl_projector;
 using sl_testing::refusedNaming;

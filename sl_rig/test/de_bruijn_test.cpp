@@ -3,7 +3,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "sl_projector/de_bruijn.h"
+#include "sl_rig/de_bruijn.h"
 
 using sl_projector::deBruijnSequence;
 using sl_projector::sequenceToString;

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace sl_projector
+namespace sl_rig
 {
 
 /**
@@ -102,4 +102,4 @@ private:
   std::string option_;
 };
 
-}  // namespace sl_projector
+}  // namespace sl_rig

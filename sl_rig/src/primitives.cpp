@@ -1,4 +1,4 @@
-#include "sl_projector/primitives.h"
+#include "sl_rig/primitives.h"
 
 #include <stdexcept>
 #include <string>

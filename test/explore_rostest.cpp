@@ -7,7 +7,8 @@
 //     ~min_progress metres along the start heading (down a corridor);
 //   - every stop before an obstacle in the middle of the robot's path (within 0.1 m of its centre
 //     line) is at ~clearance +- ~tolerance of travel before the robot's disc would touch it (heights
-//     up to H), measured by casting rays through the scene from the true pose; a stop for an
+//     up to H; early by up to a map cell's diagonal more), measured by casting rays through the
+//     scene from the true pose; a stop for an
 //     obstacle nearer the side of the disc, which often only the map remembers, is within -30 mm
 //     and +100 mm of it (the map's 2 cm cells, and the odometry since the obstacle was seen).
 // It prints the path length, the floor area the robot's disc covered, the nearest approach to any
@@ -241,6 +242,10 @@ protected:
   // times any lateral error, and the map's cells count from their nearest corner (measured up to
   // +79.6 mm in 18 runs).
   static constexpr double kSideEarly = 0.10;
+  // m a stop for an obstacle in the path may come early beyond ~tolerance: where the map knew the
+  // obstacle before the cloud did, its 2 cm cells count from their nearest corner (measured +26.6 mm,
+  // room seed 1, the obstacle 0.098 m off the centre line; late stops keep ~tolerance).
+  static constexpr double kMapEarly = 0.028;
   std::vector<double> stop_errors_, side_stop_errors_;
   std::vector<MapPoint> trail_;  // the true path in the start pose's frame, a point every 1 cm
   std::mutex map_mutex_;         // guards explored_ (the map's callback runs beside the pose's)
@@ -337,7 +342,10 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
         << memory_node << " grew from " << memory[settle] << " MB to " << memory.back() << " MB";
   }
   for (const double e : stop_errors_)
-    EXPECT_LE(std::abs(e), tolerance) << "stop " << e << " m off the clearance (obstacle in the path)";
+  {
+    EXPECT_GE(e, -tolerance) << "stop " << e << " m nearer than the clearance (obstacle in the path)";
+    EXPECT_LE(e, tolerance + kMapEarly) << "stop " << e << " m early (obstacle in the path)";
+  }
   for (const double e : side_stop_errors_)
   {
     EXPECT_GE(e, -side_late) << "stop " << e << " m nearer than the clearance (obstacle beside the centre line)";

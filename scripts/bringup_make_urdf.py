@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Prints the robot description (URDF) of the structured-light Create for a rig (calibration) file.
 
-    bringup_make_urdf.py RIG_FILE [--template urdf/create.urdf.in]
+    bringup_make_urdf.py RIG_FILE [--template urdf/create.urdf.in] [--body urdf/create.yaml]
 
 Fills the placeholders of the URDF template from the rig file, the one place the camera mount and
 the projector pose live (Debian has no xacro, so this replaces it):
@@ -9,9 +9,10 @@ the projector pose live (Debian has no xacro, so this replaces it):
   projector_pose.rotation (row-major 3x3), .translation
                                                   projector_optical_frame in camera_optical_frame:
                                                   p_camera = rotation * p_projector + translation
+and the body's radius from urdf/create.yaml (robot_radius, m), the one place it is written.
 The launch files run it as
   <param name="robot_description" command="/usr/bin/python3 $(dirname)/../scripts/bringup_make_urdf.py $(arg calibration_file)"/>
-An invalid rig file stops it with exit status 1 and a message naming the file and the key.
+An invalid rig or body file stops it with exit status 1 and a message naming the file and the key.
 """
 
 import argparse
@@ -24,6 +25,7 @@ import yaml
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 DEFAULT_TEMPLATE = os.path.join(HERE, "..", "urdf", "create.urdf.in")
+DEFAULT_BODY = os.path.join(HERE, "..", "urdf", "create.yaml")
 
 BODY_TOP = 0.074      # m, top of the Create's body above the floor (the template's base visual)
 MAST_ABOVE = 0.03     # m, the mast plate reaches this far above the camera's optical centre
@@ -80,8 +82,18 @@ def fmt(values):
     return " ".join("%.9g" % v for v in values)
 
 
-def placeholders(rig, rig_file):
-    """Every value the template needs, from the parsed rig file."""
+def robot_radius(body):
+    """robot_radius (m) of the parsed body file, checked."""
+    if not isinstance(body, dict) or "robot_radius" not in body:
+        raise RigError("robot_radius: missing (m, the robot's disc)")
+    r = body["robot_radius"]
+    if isinstance(r, bool) or not isinstance(r, (int, float)) or not (0.0 < r < 2.0):
+        raise RigError("robot_radius: %r is not a number in (0, 2) m" % (r,))
+    return float(r)
+
+
+def placeholders(rig, rig_file, radius):
+    """Every value the template needs, from the parsed rig file and the body's radius (m)."""
     if not isinstance(rig, dict):
         raise RigError("not a YAML mapping")
     mount = rig.get("mount")
@@ -102,10 +114,11 @@ def placeholders(rig, rig_file):
     # The mast is drawn in platform_edge: from the mount's position expressed there.
     edge_x, edge_z = xyz[0], xyz[2]
     if parent == "base_link":
-        edge_x -= 0.1675
+        edge_x -= radius
     mast_height = max(0.02, edge_z + MAST_ABOVE - BODY_TOP)
     return {
         "rig_file": os.path.abspath(rig_file).replace("--", "- -"),  # no "--" inside an XML comment
+        "robot_radius": "%.9g" % radius,
         "mount_parent": parent,
         "mount_xyz": fmt(xyz),
         "mount_rpy": fmt(rpy),
@@ -132,6 +145,7 @@ def main(argv):
                                      "from a rig (calibration) file; printed on stdout.")
     parser.add_argument("rig_file", help="rig file, e.g. sl_projector/config/default_rig.yaml")
     parser.add_argument("--template", default=DEFAULT_TEMPLATE, help="URDF template (default: %(default)s)")
+    parser.add_argument("--body", default=DEFAULT_BODY, help="body file with robot_radius (default: %(default)s)")
     args = parser.parse_args(argv)
     try:
         with open(args.rig_file) as f:
@@ -146,7 +160,16 @@ def main(argv):
         sys.stderr.write("bringup_make_urdf: template %s: %s\n" % (args.template, e))
         return 1
     try:
-        urdf = fill(template, placeholders(rig, args.rig_file), args.template)
+        with open(args.body) as f:
+            radius = robot_radius(yaml.safe_load(f))
+    except (OSError, yaml.YAMLError) as e:
+        sys.stderr.write("bringup_make_urdf: %s: %s\n" % (args.body, e))
+        return 1
+    except RigError as e:
+        sys.stderr.write("bringup_make_urdf: %s: %s\n" % (args.body, e))
+        return 1
+    try:
+        urdf = fill(template, placeholders(rig, args.rig_file, radius), args.template)
     except RigError as e:
         sys.stderr.write("bringup_make_urdf: %s: %s\n" % (args.rig_file, e))
         return 1

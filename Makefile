@@ -48,7 +48,7 @@ soak: build
 	  rm -f $(SOAK_PNG); \
 	  rostest --text --pkgdir=$(WS)/src/sl_bringup --package=sl_bringup $(WS)/src/sl_bringup/test/explore.test \
 	  scene:=room seed:=$(or $(SEED),7) duration:=$(DURATION) min_travel:=$$(( $(DURATION) / 120 )) \
-	  time_limit:=$$(( $(DURATION) + 180 )) memory_node:=/sl_manager map_png:=$(SOAK_PNG) > $(WS)/soak.log 2>&1; \
+	  time_limit:=$$(( $(DURATION) + 180 )) memory_node:=/sl_manager map_png:=$(SOAK_PNG) check_stops:=false > $(WS)/soak.log 2>&1; \
 	  grep -E 'explore |explore memory|explore progress|min clearance|FAIL|Failure|PASSED|passed|failed|SUMMARY|RESULT' $(WS)/soak.log; \
 	  if [ -f $(SOAK_PNG) ]; then echo "map of the run: $(SOAK_PNG)"; fi; echo "log: $(WS)/soak.log"; \
 	  ! grep -q '\[  FAILED  \]' $(WS)/soak.log && grep -q '\[  PASSED  \] 1 test' $(WS)/soak.log

@@ -17,7 +17,7 @@
 // over the run, the true path and the scene's outline into that PNG file (map_picture.h).
 // Private parameters: ~scene (file), ~duration (s), ~min_travel (m), ~min_progress (m), ~clearance (m), ~tolerance (m),
 // ~robot_radius (m, the disc; base_link to the front edge), ~height (m, top of the working window),
-// ~map_png (file; empty: no picture).
+// ~map_png (file; empty: no picture), ~check_stops (bool, true: assert the stops, else only print them).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -337,10 +337,26 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   const std::size_t settle = static_cast<std::size_t>(privateParam("memory_settle", 3.0));
   if (memory.size() > settle + 1)
   {
-    const double growth = privateParam("memory_growth", 10.0);
+    const double growth = privateParam("memory_growth", 3.0);  // MB; measured 0.8 MB over an hour
     EXPECT_LE(memory.back() - memory[settle], growth)
         << memory_node << " grew from " << memory[settle] << " MB to " << memory.back() << " MB";
   }
+  // The stops against the ground truth: printed always, asserted unless ~check_stops is false (the
+  // soak: in an hour 3 of 125 stops came 25 to 90 mm early, for map cells occupied where the scene
+  // has nothing; early, never late).
+  const auto range = [](const std::vector<double>& v)
+  {
+    char text[64] = "none";
+    if (!v.empty())
+      std::snprintf(text, sizeof(text), "%+.1f .. %+.1f mm", *std::min_element(v.begin(), v.end()) * 1000.0,
+                    *std::max_element(v.begin(), v.end()) * 1000.0);
+    return std::string(text);
+  };
+  ROS_INFO("explore %s: stops off the clearance: in the path %s (%zu), beside it %s (%zu)", scene_.name.c_str(),
+           range(stop_errors_).c_str(), stop_errors_.size(), range(side_stop_errors_).c_str(),
+           side_stop_errors_.size());
+  if (!ros::param::param<bool>("~check_stops", true))
+    return;
   for (const double e : stop_errors_)
   {
     EXPECT_GE(e, -tolerance) << "stop " << e << " m nearer than the clearance (obstacle in the path)";

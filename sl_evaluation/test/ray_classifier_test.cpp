@@ -71,6 +71,7 @@ void classify(const sl_sim::Scene& scene, uint64_t seed, Frame& f)
   s.decoder.decode(f.truth.image, f.result);
   s.rays.classify(f.truth.image, f.result, f.rays);
   f.counts = s.rays.lastCounts();
+  f.camera = s.camera_in_world;
 }
 
 std::string countsText(const Frame& f)
@@ -111,14 +112,14 @@ int count(const Frame& f, RayState state, bool in_view_only = true)
 int raysBeyondSurface(const sl_sim::Scene& scene, const Frame& f, double tolerance, const char* what)
 {
   const Shared& s = setup();
-  const Eigen::Vector3d origin = s.camera_in_world * s.rays.projectorCentre().cast<double>();
+  const Eigen::Vector3d origin = f.camera * s.rays.projectorCentre().cast<double>();
   int bad = 0;
   for (size_t i = 0; i < f.rays.size(); ++i)
   {
     const RayOutcome& o = f.rays[i];
     if (o.state == RayState::Unseen || o.state == RayState::Decoded)
       continue;
-    const Eigen::Vector3d end = s.camera_in_world * o.end.cast<double>();
+    const Eigen::Vector3d end = f.camera * o.end.cast<double>();
     const double along = (end - origin).norm();
     sl_sim::Ray ray;
     ray.origin = origin;
@@ -347,11 +348,9 @@ TEST(RayClassifier, RoomNeverLetsAFreeRayThroughASurface)
     s.decoder.decode(f.truth.image, f.result);
     s.rays.classify(f.truth.image, f.result, f.rays);
     f.counts = s.rays.lastCounts();
+    f.camera = camera;
     std::printf("room from (%.1f, %.1f, %.1f): %s\n", pose[0], pose[1], pose[2], countsText(f).c_str());
-    const Eigen::Isometry3d saved = s.camera_in_world;
-    s.camera_in_world = camera;
     EXPECT_EQ(raysBeyondSurface(scene, f, 0.02, "room"), 0);
-    s.camera_in_world = saved;
   }
 }
 
@@ -370,6 +369,7 @@ TEST(RayClassifier, TooLowANoiseFloorLetsRaysThroughADimPlane)
   s.renderer.render(scene, s.pattern, s.camera_in_world, 1, f.truth);
   s.decoder.decode(f.truth.image, f.result);
   rays.classify(f.truth.image, f.result, f.rays);
+  f.camera = s.camera_in_world;
   EXPECT_GT(rays.lastDetectableDepth(), 2.5);
   EXPECT_GE(raysBeyondSurface(scene, f, 0.02, "noise floor 0.5 DN"), 3);
 }

@@ -3,12 +3,8 @@
 // obstacle, and publishes the ground-truth collision of the robot's disc with the scene for tests.
 // All image formation and geometry live in the ROS-free core (sl_sim/renderer.h, contact.h,
 // collision.h).
-#include <algorithm>
-#include <cmath>
 #include <memory>
-#include <stdexcept>
 #include <string>
-#include <utility>
 
 #include <cv_bridge/cv_bridge.h>
 #include <image_transport/image_transport.h>
@@ -24,148 +20,15 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "messages.h"
+#include "params.h"
+#include "sl_sim/camera_frames.h"
 #include "sl_sim/collision.h"
 #include "sl_sim/contact.h"
 #include "sl_sim/renderer.h"
-#include "sl_sim/scene.h"
-#include "sl_sim/sim_settings.h"
-#include "sl_rig/ros/rig_param.h"
-#include "sl_params/params.h"
 
 namespace sl_sim
 {
-
-namespace
-{
-/// Everything the nodelet is configured with, read and validated in one place.
-struct SimParams
-{
-  std::string rig_file;
-  std::string scene_file;
-  double rate = 10.0;
-  double collision_rate = 20.0;
-  int seed = 0;
-  bool publish_depth = true;
-  bool use_tf = true;
-  std::string world_frame = "world";
-  std::string robot_frame = "base_footprint_true";
-  std::string base_frame = "base_link";
-  std::string camera_frame = "camera_optical_frame";
-  SimSettings settings;
-  ContactSettings contact;
-  sl_projector::Rig rig;
-  Scene scene;
-};
-
-// The rig and the scene, loaded from their files.
-void readFiles(const ros::NodeHandle& pnh, SimParams& p)
-{
-  // ~rig_file is the deprecated former name of ~calibration_file.
-  sl_projector::RigParam rig = sl_projector::loadRigParam(pnh, "rig_file");
-  p.rig_file = std::move(rig.file);
-  p.rig = std::move(rig.rig);
-  if (!sl_params::readIfSet(pnh, "scene_file", p.scene_file) || p.scene_file.empty())
-    throw std::invalid_argument("~scene_file: required (a scene file, e.g. $(find sl_sim)/scenes/room.yaml)");
-  try
-  {
-    p.scene = loadScene(p.scene_file);
-  }
-  catch (const std::exception& e)
-  {
-    throw std::invalid_argument(std::string("~scene_file: ") + e.what());
-  }
-}
-
-// Every simulator setting, read as a parameter of its own name (defaults: @p s).
-SimSettings readSimSettings(const ros::NodeHandle& pnh, SimSettings s)
-{
-  for (const SimSettingInfo& info : simSettingsInfo())
-  {
-    const double current = getSimSetting(s, info.name);
-    double value = current;
-    switch (info.kind)
-    {
-      case SimSettingInfo::Kind::Double:
-        value = sl_params::read(pnh, info.name, current);
-        break;
-      case SimSettingInfo::Kind::Int:
-        value = sl_params::read(pnh, info.name, static_cast<int>(current));
-        break;
-      case SimSettingInfo::Kind::Bool:
-        value = sl_params::read(pnh, info.name, current != 0.0) ? 1.0 : 0.0;
-        break;
-    }
-    setSimSetting(s, info.name, value);
-  }
-  return s;
-}
-
-// Runs a core type's validate(), naming the parameter as a private one.
-template <typename T>
-void validateParams(const T& value)
-{
-  try
-  {
-    value.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    throw std::invalid_argument(std::string("~") + e.what());
-  }
-}
-
-SimParams readParams(const ros::NodeHandle& pnh)
-{
-  SimParams p;
-  readFiles(pnh, p);
-  p.rate = sl_params::read(pnh, "rate", p.rate);
-  if (!std::isfinite(p.rate) || p.rate <= 0.0 || p.rate > 1000.0)
-    throw std::invalid_argument("~rate: must be in (0, 1000] Hz, got " + std::to_string(p.rate));
-  p.collision_rate = sl_params::read(pnh, "collision_rate", p.collision_rate);
-  if (!std::isfinite(p.collision_rate) || p.collision_rate <= 0.0 || p.collision_rate > 1000.0)
-    throw std::invalid_argument("~collision_rate: must be in (0, 1000] Hz, got " + std::to_string(p.collision_rate));
-  p.seed = sl_params::read(pnh, "seed", p.seed);
-  if (p.seed < 0)
-    throw std::invalid_argument("~seed: must be >= 0, got " + std::to_string(p.seed));
-  p.publish_depth = sl_params::read(pnh, "publish_depth", p.publish_depth);
-  p.use_tf = sl_params::read(pnh, "use_tf", p.use_tf);
-  p.world_frame = sl_params::read(pnh, "world_frame", p.world_frame);
-  p.robot_frame = sl_params::read(pnh, "robot_frame", p.robot_frame);
-  p.base_frame = sl_params::read(pnh, "base_frame", p.base_frame);
-  p.camera_frame = sl_params::read(pnh, "camera_frame", p.camera_frame);
-  for (const std::string* f : { &p.world_frame, &p.robot_frame, &p.base_frame, &p.camera_frame })
-    if (f->empty())
-      throw std::invalid_argument("~world_frame, ~robot_frame, ~base_frame and ~camera_frame must not be empty");
-  p.settings = readSimSettings(pnh, p.settings);
-  validateParams(p.settings);
-  p.contact.robot_radius = sl_params::read(pnh, "robot_radius", p.contact.robot_radius);
-  p.contact.robot_height = sl_params::read(pnh, "robot_height", p.contact.robot_height);
-  p.contact.contact_min_height = sl_params::read(pnh, "contact_min_height", p.contact.contact_min_height);
-  validateParams(p.contact);
-  return p;
-}
-
-// A message holding a copy of a continuous image (the renderer's outputs are).
-sensor_msgs::ImagePtr toImageMsg(const cv::Mat& image, const std::string& encoding, const std_msgs::Header& header)
-{
-  sensor_msgs::ImagePtr msg(new sensor_msgs::Image);
-  msg->header = header;
-  msg->height = static_cast<uint32_t>(image.rows);
-  msg->width = static_cast<uint32_t>(image.cols);
-  msg->encoding = encoding;
-  msg->is_bigendian = 0;
-  msg->step = static_cast<uint32_t>(image.cols * image.elemSize());
-  msg->data.assign(image.data, image.data + image.total() * image.elemSize());
-  return msg;
-}
-
-Eigen::Isometry3d translationX(double x)
-{
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation().x() = x;
-  return t;
-}
-}  // namespace
 
 /**
  * Simulated structured-light camera: subscribes `pattern` (the projector's frame), renders the scene
@@ -190,7 +53,7 @@ private:
       NODELET_FATAL("invalid parameter: %s", e.what());
       throw;
     }
-    info_ = cameraInfo();
+    info_ = toCameraInfo(p_.rig.camera, p_.camera_frame);
     tf_buffer_.reset(new tf2_ros::Buffer());
     if (p_.use_tf)
       tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
@@ -208,21 +71,6 @@ private:
     NODELET_INFO("simulating a %d x %d camera at %.1f Hz: rig %s, scene %s (%zu objects), pattern from %s",
                  p_.rig.camera.width, p_.rig.camera.height, p_.rate, p_.rig_file.c_str(), p_.scene_file.c_str(),
                  p_.scene.objects.size(), pattern_sub_.getTopic().c_str());
-  }
-
-  sensor_msgs::CameraInfo cameraInfo() const
-  {
-    const sl_projector::PinholeModel& c = p_.rig.camera;
-    sensor_msgs::CameraInfo info;
-    info.header.frame_id = p_.camera_frame;
-    info.width = static_cast<uint32_t>(c.width);
-    info.height = static_cast<uint32_t>(c.height);
-    info.distortion_model = "plumb_bob";
-    info.D.assign(c.dist.begin(), c.dist.end());
-    info.K = { c.fx, 0.0, c.cx, 0.0, c.fy, c.cy, 0.0, 0.0, 1.0 };
-    info.R = { 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0 };
-    info.P = { c.fx, 0.0, c.cx, 0.0, 0.0, c.fy, c.cy, 0.0, 0.0, 0.0, 1.0, 0.0 };
-    return info;
   }
 
   void onPattern(const sensor_msgs::ImageConstPtr& msg)
@@ -258,8 +106,7 @@ private:
   std::string robotPose(Eigen::Isometry3d& robot_in_world, ros::Time& pose_stamp)
   {
     pose_stamp = ros::Time();
-    // Default: platform_edge at the world origin, so the robot's centre is robot_radius behind it.
-    robot_in_world = translationX(-p_.contact.robot_radius);
+    robot_in_world = defaultRobotInWorld(p_.contact.robot_radius);
     if (!p_.use_tf)
       return std::string();
     try
@@ -281,8 +128,7 @@ private:
   void poses(Eigen::Isometry3d& robot_in_world, Eigen::Isometry3d& camera_in_world, ros::Time& pose_stamp)
   {
     std::string missing = robotPose(robot_in_world, pose_stamp);
-    Eigen::Isometry3d camera_in_base =
-        translationX(p_.contact.robot_radius) * toIsometry(p_.rig.mount.cameraOpticalInParent());
+    Eigen::Isometry3d camera_in_base = defaultCameraInBase(p_.rig, p_.contact.robot_radius);
     if (p_.use_tf)
     {
       try
@@ -301,19 +147,6 @@ private:
                               missing.c_str());
     }
     camera_in_world = robot_in_world * camera_in_base;
-  }
-
-  /// The moment the image shows: the time of the robot pose it is rendered from (so that a
-  /// consumer's tf lookup at the stamp finds the pose of the exposure), or now when that pose is
-  /// missing, stale (> 0.2 s) or not newer than the last frame's stamp.
-  ros::Time exposureStamp(const ros::Time& pose_stamp)
-  {
-    const ros::Time now = ros::Time::now();
-    ros::Time stamp = now;
-    if (!pose_stamp.isZero() && pose_stamp <= now && (now - pose_stamp).toSec() <= 0.2 && pose_stamp > last_stamp_)
-      stamp = pose_stamp;
-    last_stamp_ = std::max(last_stamp_, stamp);
-    return stamp;
   }
 
   void onTimer(const ros::TimerEvent&)
@@ -337,12 +170,15 @@ private:
       NODELET_WARN_THROTTLE(10.0, "no pattern received yet on %s: not rendering", pattern_sub_.getTopic().c_str());
       return;
     }
-    const ros::Time stamp = exposureStamp(pose_stamp);
+    // The time of the pose the image is rendered from, so that a consumer's tf lookup at the stamp
+    // finds the pose of the exposure (ExposureStamper: now when that pose is missing or stale).
+    ros::Time stamp;
+    stamp.fromNSec(static_cast<uint64_t>(
+        stamper_.stamp(static_cast<int64_t>(pose_stamp.toNSec()), static_cast<int64_t>(ros::Time::now().toNSec()))));
     try
     {
       // A different noise seed every frame, the same sequence for the same ~seed.
-      renderer_->render(p_.scene, pattern_, camera_in_world,
-                        static_cast<uint64_t>(p_.seed) * 0x100000001ULL + frame_count_++, out_);
+      renderer_->render(p_.scene, pattern_, camera_in_world, frameSeed(p_.seed, frame_count_++), out_);
     }
     catch (const std::exception& e)
     {
@@ -371,14 +207,8 @@ private:
   void publishCollision(const Eigen::Isometry3d& robot_in_world, const ros::Time& pose_stamp)
   {
     computeCollision(p_.scene, robot_in_world, p_.contact, collision_);
-    sl_msgs::CollisionPtr msg(new sl_msgs::Collision);
-    msg->header.stamp = pose_stamp.isZero() ? ros::Time::now() : pose_stamp;
-    msg->header.frame_id = p_.world_frame;
-    msg->colliding = collision_.colliding;
-    msg->objects = collision_.names;
-    msg->min_clearance = collision_.min_clearance;
-    msg->nearest_object = collision_.nearest_name;
-    collision_pub_.publish(msg);
+    collision_pub_.publish(
+        toCollisionMsg(collision_, pose_stamp.isZero() ? ros::Time::now() : pose_stamp, p_.world_frame));
     if (collision_.colliding)
       NODELET_WARN_THROTTLE(1.0,
                             "collision: the robot's disc at (%.3f, %.3f) overlaps %zu object(s), deepest %s (%.4f m)",
@@ -393,7 +223,7 @@ private:
   sensor_msgs::CameraInfo info_;
   cv::Mat pattern_;
   uint64_t frame_count_ = 0;
-  ros::Time last_stamp_;
+  ExposureStamper stamper_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<image_transport::ImageTransport> it_;

@@ -160,17 +160,24 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
   plan_version_ = grid_.version();
   if (p.status == PlanStatus::OK)
   {
-    if (!force && !plan_.points.empty() && plan_.status == PlanStatus::OK)
+    bool detour = force;  // the current plan is blocked (or there is none): the new one may be longer
+    if (!plan_.points.empty() && plan_.status == PlanStatus::OK)
     {
       const double kept = planner_.pathCost(grid_, plan_.points, follower_.index());
-      if (std::isfinite(kept) && p.cost * (1.0 + params_.switch_gain) > kept)
+      if (!force && std::isfinite(kept) && p.cost * (1.0 + params_.switch_gain) > kept)
       {
         refuse_since_ = std::numeric_limits<double>::quiet_NaN();
         return true;  // the current plan is still passable and about as good: keep it
       }
+      detour = detour || !std::isfinite(kept);
     }
     plan_ = std::move(p);
     follower_.setPath(plan_.points, goal_.yaw, goal_.use_yaw);
+    if (detour)
+    {
+      // An obstacle found on the way is no regress: progress counts along the detour from here.
+      best_remaining_ = follower_.remaining();
+    }
     refuse_since_ = std::numeric_limits<double>::quiet_NaN();
     out_.plan_changed = true;
     return true;

@@ -11,7 +11,8 @@ namespace sl_navigation
 namespace
 {
 constexpr double kSweepStep = 0.025;  // m between the discs swept along the path
-constexpr double kLookedRadius = 0.1;  // m: unknown cells this near one looked at count as looked at
+constexpr double kLookSpacing = 0.2;  // m of travel for each two looks
+constexpr double kReturnTolerance = 0.15;  // rad: after a look, the turn back ends this near the path
 
 double hypot2(const Point& a, const Point& b)
 {
@@ -64,6 +65,7 @@ void FollowerParams::validate() const
   detail::requireRange("look_distance", look_distance, 0.0, 5.0);
   detail::requireRange("look_min_distance", look_min_distance, 0.0, 5.0);
   detail::requireRange("look_tolerance", look_tolerance, 0.01, 1.0);
+  detail::requireRange("view_angle", view_angle, 0.0, M_PI);
   detail::requireRange("look_time", look_time, 0.0, 30.0);
   detail::requireRange("goal_tolerance", goal_tolerance, 0.01, 2.0);
   detail::requireRange("yaw_tolerance", yaw_tolerance, 0.0, M_PI);
@@ -108,7 +110,9 @@ void PathFollower::reset()
   offset_ = 0.0;
   speed_ = 0.0;
   facing_ = false;
-  looked_.clear();
+  returning_ = false;
+  looking_ = false;
+  looks_.clear();
   last_time_ = std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -186,6 +190,10 @@ PathFollower::Sweep PathFollower::sweep(const Pose& pose, const ExecWindow& w) c
   const double res = w.resolution();
   const double horizon = std::min(remaining(), std::max(params_.look_distance, 1.5));
   const int cells = static_cast<int>(std::ceil(r / res)) + 1;
+  // Two looks (one to each side) per kLookSpacing of travel: looking again where the robot stands
+  // would not show what the last two looks did not.
+  const auto near = [&](const Pose& q) { return std::hypot(q.x - pose.x, q.y - pose.y) < kLookSpacing; };
+  const bool may_look = std::count_if(looks_.begin(), looks_.end(), near) < 2;
   for (double t = kSweepStep; t <= horizon + 1e-9; t += kSweepStep)
   {
     const Point c = pointAhead(t);
@@ -204,10 +212,21 @@ PathFollower::Sweep PathFollower::sweep(const Pose& pose, const ExecWindow& w) c
         {
           s.obstacle = t;
         }
-        else if (v != 0 && v < 100 && t < s.unknown)
+        else if (v != 0 && v < 100)
         {
-          s.unknown = t;
-          s.unknown_at = { x, y };
+          if (t < s.unknown)
+          {
+            s.unknown = t;
+            s.unknown_at = { x, y };
+          }
+          const double d = std::hypot(x - pose.x, y - pose.y);
+          const double bearing = wrapAngle(std::atan2(y - pose.y, x - pose.x) - pose.yaw);
+          if (may_look && t < s.look && d >= params_.look_min_distance && d <= params_.look_distance &&
+              std::abs(bearing) > params_.view_angle && !looked({ x, y }) && inSight(pose, { x, y }, w))
+          {
+            s.look = t;
+            s.look_at = { x, y };
+          }
         }
       }
     }
@@ -221,11 +240,29 @@ PathFollower::Sweep PathFollower::sweep(const Pose& pose, const ExecWindow& w) c
   return s;
 }
 
+bool PathFollower::inSight(const Pose& pose, const Point& p, const ExecWindow& w) const
+{
+  // An obstacle between would hide the cell: looking would not show it (a door's frame, a wall's end).
+  const double d = std::hypot(p.x - pose.x, p.y - pose.y);
+  const int n = static_cast<int>(d / w.resolution());
+  for (int k = 1; k < n; ++k)
+  {
+    const double f = static_cast<double>(k) / n;
+    if (w.at(pose.x + f * (p.x - pose.x), pose.y + f * (p.y - pose.y)) >= 100)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 bool PathFollower::looked(const Point& p) const
 {
-  for (const Point& q : looked_)
+  for (const Pose& q : looks_)
   {
-    if (hypot2(p, q) < kLookedRadius)
+    const double d = std::hypot(p.x - q.x, p.y - q.y);
+    const double bearing = wrapAngle(std::atan2(p.y - q.y, p.x - q.x) - q.yaw);
+    if (d >= params_.look_min_distance && d <= params_.look_distance && std::abs(bearing) <= params_.view_angle)
     {
       return true;
     }
@@ -233,16 +270,27 @@ bool PathFollower::looked(const Point& p) const
   return false;
 }
 
-bool PathFollower::lookAt(const Pose& pose, const Sweep& s, double now)
+bool PathFollower::lookAt(const Pose& pose, const Sweep& s, const ExecWindow& window, double now)
 {
-  const double dist = std::hypot(s.unknown_at.x - pose.x, s.unknown_at.y - pose.y);
-  if (!(s.unknown <= params_.look_distance) || s.obstacle <= s.unknown || dist < params_.look_min_distance ||
-      looked(s.unknown_at))
+  const std::int8_t target = looking_ ? window.at(look_target_.x, look_target_.y) : -1;
+  if (looking_ && (target == 0 || target >= 100))
+  {
+    looks_.push_back(pose);  // seen meanwhile: a look all the same
+    looking_ = false;
+    facing_ = false;
+    returning_ = true;
+  }
+  if (!looking_ && (!std::isfinite(s.look) || s.obstacle <= s.look))
   {
     facing_ = false;
     return false;
   }
-  const double error = wrapAngle(std::atan2(s.unknown_at.y - pose.y, s.unknown_at.x - pose.x) - pose.yaw);
+  if (!looking_)
+  {
+    looking_ = true;  // one target until the look ends: turning toward it brings others out of view
+    look_target_ = s.look_at;
+  }
+  const double error = wrapAngle(std::atan2(look_target_.y - pose.y, look_target_.x - pose.x) - pose.yaw);
   if (std::abs(error) > params_.look_tolerance)
   {
     facing_ = false;
@@ -256,8 +304,10 @@ bool PathFollower::lookAt(const Pose& pose, const Sweep& s, double now)
   }
   if (now - facing_since_ >= params_.look_time)
   {
-    looked_.push_back(s.unknown_at);  // seen as well as the camera can: the filter decides now
+    looks_.push_back(pose);  // what is in view now is seen as well as the camera can see it
     facing_ = false;
+    looking_ = false;
+    returning_ = true;
     return false;
   }
   out_.mode = FollowMode::LOOK;
@@ -280,7 +330,9 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double spe
   const Point target = pointAhead(params_.lookahead);
   const double dist = std::max(1e-3, std::hypot(target.x - pose.x, target.y - pose.y));
   const double alpha = wrapAngle(std::atan2(target.y - pose.y, target.x - pose.x) - pose.yaw);
-  if (std::abs(alpha) > params_.rotate_threshold)
+  // After a look, turn back in place: an arc back to the path would sweep the unseen side.
+  returning_ = returning_ && std::abs(alpha) > kReturnTolerance;
+  if (returning_ || std::abs(alpha) > params_.rotate_threshold)
   {
     rotateTo(alpha, FollowMode::ROTATE);
     return;
@@ -350,10 +402,10 @@ const FollowCommand& PathFollower::step(const Pose& pose, const ExecWindow& wind
     out_.text = text;
     return out_;
   }
-  if (lookAt(pose, s, now))
+  if (lookAt(pose, s, window, now))
   {
-    std::snprintf(text, sizeof(text), "path unknown %.2f m ahead at (%.2f, %.2f): turning to look", s.unknown,
-                  s.unknown_at.x, s.unknown_at.y);
+    std::snprintf(text, sizeof(text), "path unknown at (%.2f, %.2f), out of view: looking", look_target_.x,
+                  look_target_.y);
     out_.text = text;
     return out_;
   }

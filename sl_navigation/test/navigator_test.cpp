@@ -101,6 +101,7 @@ NavigatorParams params()
 {
   NavigatorParams p;
   p.grid.size = 12.0;
+  p.follower.view_angle = 0.45;  // World::sense()'s camera
   return p;
 }
 }  // namespace

@@ -139,9 +139,28 @@ TEST(PathFollower, TurnsToLookWhereThePathAheadIsUnknownThenWaitsAndDrivesOn)
   EXPECT_EQ(turning.mode, FollowMode::LOOK) << turning.text;
   EXPECT_GT(pose.yaw, 0.2);
   EXPECT_EQ(turning.linear, 0.0);
-  const FollowCommand after = f.step(pose, w.get(), t + f.params().look_time + 0.01);
+  // Then it turns back in place (an arc back would sweep the unseen side), looks at the other side of
+  // the path if that is out of view too, and drives on: the window here never changes, and what was in
+  // view at a look is not looked at again.
+  t += f.params().look_time + 0.01;
+  FollowCommand after = f.step(pose, w.get(), t);
+  int looks = 1;
+  int turns_back = 0;
+  FollowMode last = FollowMode::LOOK;
+  for (int i = 0; i < 1000 && after.mode != FollowMode::DRIVE; ++i, t += 0.05)
+  {
+    EXPECT_EQ(after.linear, 0.0) << after.text;
+    looks += after.mode == FollowMode::LOOK && last != FollowMode::LOOK ? 1 : 0;
+    turns_back += after.mode == FollowMode::ROTATE && last != FollowMode::ROTATE ? 1 : 0;
+    last = after.mode;
+    pose.yaw += after.angular * 0.05;
+    after = f.step(pose, w.get(), t);
+  }
   EXPECT_EQ(after.mode, FollowMode::DRIVE) << after.text;
   EXPECT_GT(after.linear, 0.0);
+  EXPECT_LE(looks, 3);
+  EXPECT_GE(turns_back, 1);
+  EXPECT_NEAR(pose.yaw, 0.7, 0.25);  // back on the path's heading
 }
 
 TEST(PathFollower, TurnsInPlaceTowardAPathBehind)

@@ -96,6 +96,7 @@ void FilterParams::validate() const
 {
   footprint.validate();
   detail::requireInRange("safety_margin", clearance, 0.0, 2.0);
+  detail::requireInRange("obstacle_margin", obstacle_clearance, 0.0, 2.0);
   detail::requireInRange("deceleration", deceleration, 0.0, 10.0);
   detail::requireInRange("check_distance", horizon, 0.1, 10.0);
   detail::requireInRange("input_timeout", input_timeout, 0.01, 60.0);
@@ -284,11 +285,14 @@ SafetyFilter::Travels SafetyFilter::travels(const LocalMap& map, const FilterInp
   // Where the cloud sees the obstacle the map stops at, its exact distance replaces the cells'; the
   // unknown cells just behind that obstacle (no ray passed it) are reached only through it.
   const bool same = std::isfinite(cloud) && std::abs(body - cloud) <= 3.0 * res;
-  const auto before = [&](double cells) { return same && cells >= body ? cloud : std::min(cloud, cells); };
-  const double known = same ? before(swept.unknown) : std::min(swept.free, cloud);
-  const double open = same ? before(swept.evidence) : std::min({ swept.obstacle, swept.evidence, cloud });
-  t.known = std::min(known, length) - params_.clearance;
-  t.open = std::min(open, length) - params_.clearance;
+  const double obstacle = same ? cloud : std::min(swept.obstacle, cloud);
+  // Unknown cells from a cell before the obstacle on are its shadow: reached only through it.
+  const double shadow = same ? body : obstacle - res;
+  const auto unknownAt = [&](double cells) { return cells >= shadow ? kInf : cells; };
+  const double to_obstacle = std::min(obstacle, length) - params_.obstacle_clearance;
+  const double checked = length - std::max(params_.clearance, params_.obstacle_clearance);
+  t.known = std::min({ unknownAt(swept.unknown) - params_.clearance, to_obstacle, checked });
+  t.open = std::min({ unknownAt(swept.evidence) - params_.clearance, to_obstacle, checked });
   return t;
 }
 
@@ -321,7 +325,8 @@ double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, doub
     // Only the stopping distance and the clearance need checking (plus a little, so that free
     // space there still allows the speed).
     const double stop = a > 0.0 ? speed * speed / (2.0 * a) : 0.0;
-    const double length = std::min(params_.horizon, stop + params_.clearance + margin);
+    const double length =
+        std::min(params_.horizon, stop + std::max(params_.clearance, params_.obstacle_clearance) + margin);
     const Travels t = travels(map, in, sign * speed, w, length);
     const double known_limit = speedFor(t.known, a);
     const double creep_limit = may_creep ? std::min(params_.creep_speed, speedFor(t.open, a)) : 0.0;

@@ -87,6 +87,7 @@ TEST(SafetyFilter, StraightAtAWallFollowsTheStoppingFormula)
   wallMap(map, 1.4);
   FilterParams p;
   p.clearance = 0.40;
+  p.obstacle_clearance = 0.40;
   const SafetyFilter filter(p);
   for (double x = 0.0; x <= 0.9; x += 0.05)
   {
@@ -106,6 +107,37 @@ TEST(SafetyFilter, StraightAtAWallFollowsTheStoppingFormula)
                           : expected > 0.0 ? FilterReason::LIMITED
                                            : FilterReason::STOPPED_OBSTACLE)
         << "at x " << x;
+  }
+}
+
+TEST(SafetyFilter, KnownObstaclesKeepTheObstacleClearanceUnknownSpaceTheClearance)
+{
+  FilterParams p;
+  p.clearance = 0.40;
+  p.obstacle_clearance = 0.05;
+  p.creep_speed = 0.0;  // the clearances alone
+  const SafetyFilter filter(p);
+  LocalMap walled{ MapParams() };
+  wallMap(walled, 1.4);  // free up to a wall: unknown behind it, its shadow
+  LocalMap open{ MapParams() };
+  insertRect(open, -0.4F, 1.4F, -0.6F, 0.6F, RayKind::Free);  // free up to 1.4 m, unknown beyond
+  for (double x = 0.5; x <= 1.2; x += 0.05)
+  {
+    const std::vector<Point2> wall = wallPoints(1.4, x);
+    FilterInput in = inputAt(x, 0.0, 0.0, 0.3, 0.0);
+    in.obstacles = &wall;
+    const FilterOutput at_wall = filter.filter(walled, in);
+    const double d_wall = 1.4 - x - kBody - p.obstacle_clearance;
+    EXPECT_NEAR(at_wall.command.linear, d_wall > 0.0 ? std::min(0.3, std::sqrt(2.0 * p.deceleration * d_wall)) : 0.0,
+                1e-6)
+        << "at x " << x;
+    // The same free space without the wall: the disc (with its lateral margin) must stop the
+    // clearance before the first unknown cell (the rays' last cell, from 1.40 to 1.42 m, is free).
+    const FilterOutput at_edge = filter.filter(open, inputAt(x, 0.0, 0.0, 0.3, 0.0));
+    const double d_edge = 1.4 - x - kBody - p.footprint.lateral_margin - p.clearance;
+    EXPECT_LE(at_edge.travel, d_edge + kRes + 1e-9) << "at x " << x;
+    EXPECT_GE(at_edge.travel, std::min(d_edge, 0.0) - 2.5 * kRes) << "at x " << x;
+    EXPECT_LT(at_edge.command.linear, at_wall.command.linear + 1e-9) << "at x " << x;
   }
 }
 
@@ -132,6 +164,7 @@ TEST(SafetyFilter, AnArcThatGrazesALegIsSlowedByTheLegNotByTheWall)
   const std::vector<Point2> leg{ { 0.61, 0.31 } };
   FilterParams p;
   p.clearance = 0.40;
+  p.obstacle_clearance = 0.40;
   const SafetyFilter filter(p);
   // Straight on, the leg stays outside the swept path: only the wall, far away, limits.
   FilterInput straight = inputAt(0.0, 0.0, 0.0, 0.3, 0.0);
@@ -263,6 +296,7 @@ TEST(SafetyFilter, CreepRuleAsAFormula)
   insertRect(map, 1.19F, 1.2F, -0.8F, 0.8F, RayKind::Hit);
   FilterParams p;
   p.clearance = 0.40;
+  p.obstacle_clearance = 0.40;
   const SafetyFilter filter(p);
   int crept = 0;
   for (int i = 0; i <= 25; ++i)
@@ -443,6 +477,9 @@ TEST(SafetyFilter, BadParametersAreNamed)
   p = FilterParams();
   p.creep_speed = 0.1;  // the creep is 0.05 m/s at most
   EXPECT_EQ(validationError(p).rfind("creep_speed", 0), 0U) << validationError(p);
+  p = FilterParams();
+  p.obstacle_clearance = -0.1;
+  EXPECT_EQ(validationError(p).rfind("obstacle_margin", 0), 0U) << validationError(p);
   p = FilterParams();
   p.footprint.radius = 0.0;
   EXPECT_EQ(validationError(p).rfind("radius", 0), 0U) << validationError(p);

@@ -30,14 +30,15 @@ struct FollowerParams
   double turn_speed = 0.9;          ///< rad/s, the fastest turn in place (turn_speed)
   double acceleration = 0.4;        ///< m/s^2, how fast the command's speed rises (acceleration)
   double deceleration = 0.25;       ///< m/s^2, the a of v <= sqrt(2 a d) (the safety filter's)
-  double clearance = 0.4;           ///< m kept to occupied cells along the path (the safety filter's safety_margin)
+  double clearance = 0.1;           ///< m kept to occupied cells along the path (the safety filter's obstacle_margin)
   double swept_radius = 0.1875;     ///< m, robot radius + lateral margin (the safety filter's)
   double lookahead = 0.35;          ///< m, pure-pursuit look-ahead along the path
   double rotate_threshold = 0.8;    ///< rad: heading errors above this are turned in place first
-  double look_distance = 0.9;       ///< m of path checked for unknown cells to turn and look at
-  double look_min_distance = 0.45;  ///< m from base_link: nearer unknown cells lie in the camera's blind ring
+  double look_distance = 1.0;       ///< m from base_link: unknown path cells up to this far are looked at
+  double look_min_distance = 0.5;   ///< m from base_link: nearer unknown cells lie in the camera's blind ring
+  double view_angle = 0.24;         ///< rad, half the camera's horizontal view: unknown cells within it are not looked at
   double look_tolerance = 0.15;     ///< rad: facing an unknown cell this well counts as looking at it
-  double look_time = 1.0;           ///< s to wait facing an unknown cell before driving on (the filter decides)
+  double look_time = 0.7;           ///< s to wait facing an unknown cell before driving on (the filter decides)
   double goal_tolerance = 0.10;     ///< m (goal_tolerance)
   double yaw_tolerance = 0.0;       ///< rad; 0: the goal's heading is ignored (yaw_tolerance)
 
@@ -99,8 +100,11 @@ struct FollowCommand
  * Each step projects the robot on the path (never backwards), sweeps the robot's disc along the path
  * on the ExecWindow and takes the known-free travel d (the first cell not free, cells under the robot
  * now excepted). Where an unknown cell of the path lies between look_min_distance and look_distance
- * from the robot, it first turns to face it and waits look_time for the map (a cell is looked at
- * once). Otherwise it drives toward the look-ahead point on an arc of curvature 2 sin(alpha) / L,
+ * from the robot and outside the camera's view (beyond view_angle of the heading: an unknown cell in
+ * view is hidden or too far, looking would not help; nearer unknown cells do not hide farther ones), it
+ * first turns to face it, waits look_time for the map and turns back in place toward the path (what
+ * lay in the view at a look is not looked at again): with a camera of narrow view the
+ * sides of the path are seen this way before the robot gets there. Otherwise it drives toward the look-ahead point on an arc of curvature 2 sin(alpha) / L,
  * with v <= max_speed, v <= sqrt(2 a (d_obstacle - clearance)) (d_obstacle: travel to the first
  * occupied cell of the window on the path), v <= max_angular / |curvature|, v <= the filter's last
  * limit plus the rise the acceleration allows, the rise limited by acceleration, and slowing toward
@@ -129,6 +133,9 @@ public:
   const FollowerParams& params() const { return params_; }
   /// Index of the path point the robot last passed (the start of its current segment).
   std::size_t index() const { return index_; }
+  /// Path length (m) from the robot's last projection on the path to its end (0 without a path).
+  double remaining() const;
+
   /// The path being followed.
   const std::vector<Point>& path() const { return path_; }
 
@@ -139,15 +146,22 @@ private:
     double obstacle = std::numeric_limits<double>::infinity();
     double unknown = std::numeric_limits<double>::infinity();
     Point unknown_at;
+    /// The first unknown cell of the path the camera can see from here (between look_min_distance
+    /// and look_distance from the robot) and not looked at yet: where to look.
+    double look = std::numeric_limits<double>::infinity();
+    Point look_at;
   };
   void project(const Pose& pose);
   Sweep sweep(const Pose& pose, const ExecWindow& window) const;
   Point pointAhead(double distance) const;
-  double remaining() const;
-  bool lookAt(const Pose& pose, const Sweep& s, double now);
+  bool lookAt(const Pose& pose, const Sweep& s, const ExecWindow& window, double now);
   void rotateTo(double error, FollowMode mode);
   void drive(const Pose& pose, const Sweep& s, double dt, double speed_cap);
+  /// True when @p p lay in the camera's view (within view_angle, look_min_distance to look_distance)
+  /// at one of the looks on this path: looking again would not show more.
   bool looked(const Point& p) const;
+  /// True when no occupied cell of @p w lies between the robot and @p p.
+  bool inSight(const Pose& pose, const Point& p, const ExecWindow& w) const;
 
   FollowerParams params_;
   std::vector<Point> path_;
@@ -159,8 +173,11 @@ private:
   double last_time_ = std::numeric_limits<double>::quiet_NaN();
   double speed_ = 0.0;  // last commanded linear speed
   bool facing_ = false;
+  bool returning_ = false;  // turning back in place toward the path after a look
+  bool looking_ = false;    // a look at look_target_ is under way (kept until it ends)
+  Point look_target_;
   double facing_since_ = 0.0;
-  std::vector<Point> looked_;  // unknown cells already looked at on this path
+  std::vector<Pose> looks_;  // where the robot stood and faced when it looked, on this path
   FollowCommand out_;
 };
 

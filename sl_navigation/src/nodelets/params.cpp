@@ -52,6 +52,7 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "rotate_threshold", f.rotate_threshold);
   get(pnh, "look_distance", f.look_distance);
   get(pnh, "look_min_distance", f.look_min_distance);
+  get(pnh, "view_angle", f.view_angle);
   get(pnh, "look_tolerance", f.look_tolerance);
   get(pnh, "look_time", f.look_time);
   get(pnh, "goal_tolerance", f.goal_tolerance);

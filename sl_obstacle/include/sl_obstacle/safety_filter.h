@@ -41,7 +41,10 @@ struct Velocity
 struct FilterParams
 {
   FootprintParams footprint;   ///< the robot's disc and the lateral margin of its swept path
-  double clearance = 0.15;     ///< m kept between the disc and obstacles or unknown space (safety_margin)
+  double clearance = 0.15;     ///< m kept between the disc and unknown space (safety_margin)
+  /// m kept between the disc and occupied cells or cloud points (obstacle_margin): what the map
+  /// knows is approached by its cells and the odometry, so it may be nearer than unknown space
+  double obstacle_clearance = 0.15;
   double deceleration = 0.25;  ///< a in v <= sqrt(2 a d) (m/s^2); 0: stop only at d = 0
   double horizon = 1.5;        ///< m, the longest arc checked (check_distance)
   double input_timeout = 0.5;  ///< s without a command before the robot stops
@@ -135,8 +138,9 @@ struct FilterOutput
  *   forward: |v| <= max(sqrt(2 a d_known), C min(creep_speed, sqrt(2 a d_open)))
  *   reverse: |v| <= sqrt(2 a d_trail)
  *
- * d_known: travel to the first cell that is not free, or to contact with a cloud point, less the
- * clearance; d_open: the same, except that unknown cells without evidence (never seen to hold
+ * d_known: the travel to the first unknown cell less the clearance, or to the first occupied cell or
+ * contact with a cloud point less the obstacle clearance, whichever is shorter (unknown cells within a
+ * cell of an obstacle ahead, its shadow, are reached only through it and count as the obstacle); d_open: the same, except that unknown cells without evidence (never seen to hold
  * anything: the ring the camera cannot see) pass; C = 1 when the map knows the centre line straight
  * ahead from the clearance to two cells beyond it (centreLineSeen(): free or occupied, the camera
  * sees where an obstacle would stop the robot), else 0; d_trail: travel until the disc (radius, no margin) covers a

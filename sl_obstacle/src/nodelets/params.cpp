@@ -109,6 +109,7 @@ Settings toSettings(const ObstacleConfig& c)
   FilterParams& f = s.filter;
   f.footprint = w.footprint;
   f.clearance = c.safety_margin;
+  f.obstacle_clearance = c.obstacle_margin < 0.0 ? c.safety_margin : c.obstacle_margin;
   f.deceleration = c.deceleration;
   f.horizon = c.check_distance;
   f.input_timeout = c.input_timeout;

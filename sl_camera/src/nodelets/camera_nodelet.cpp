@@ -149,10 +149,12 @@ private:
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID(std::string(cameraBackendName(config.backend)) + ":" +
                             (device_.empty() ? std::string("first camera") : device_));
-    updater_->add("capture", this, &CameraNodelet::diagnoseCapture);
+    updater_->add("capture", [this](diagnostic_updater::DiagnosticStatusWrapper& stat)
+                  { fillCaptureStatus(captureStats(), params_.camera, device_, unreadable_.get(), stat); });
     frequency_.reset(new diagnostic_updater::FrequencyStatus(
         diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.1, 10), "frame rate"));
-    updater_->add("frame rate", this, &CameraNodelet::diagnoseRate);
+    updater_->add("frame rate", [this](diagnostic_updater::DiagnosticStatusWrapper& stat)
+                  { fillRateStatus(captureStats(), *frequency_, stat); });
     diagnostics_timer_ =
         nh.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { onDiagnosticsTimer(); });
   }
@@ -266,16 +268,6 @@ private:
   }
 
   CaptureStats captureStats() const { return capture_ ? capture_->stats() : CaptureStats(); }
-
-  void diagnoseCapture(diagnostic_updater::DiagnosticStatusWrapper& stat)
-  {
-    fillCaptureStatus(captureStats(), params_.camera, device_, unreadable_.get(), stat);
-  }
-
-  void diagnoseRate(diagnostic_updater::DiagnosticStatusWrapper& stat)
-  {
-    fillRateStatus(captureStats(), *frequency_, stat);
-  }
 
   CameraParams params_;
   std::string device_;

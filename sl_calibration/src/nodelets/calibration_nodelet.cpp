@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include <cv_bridge/cv_bridge.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -19,9 +18,9 @@
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
 
+#include "images.h"
 #include "params.h"
 #include "sl_calibration/live_procedure.h"
-#include "sl_rig/mono8.h"
 
 namespace sl_calibration
 {
@@ -86,18 +85,11 @@ private:
     prompt();
   }
 
-  // --- images --------------------------------------------------------------------------------
   void onImage(const sensor_msgs::ImageConstPtr& msg)
   {
     try
     {
-      collector_.offer(static_cast<std::int64_t>(msg->header.stamp.toNSec()),
-                       [&msg]
-                       {
-                         bool converted = false;
-                         cv_bridge::CvImageConstPtr cv = cv_bridge::toCvShare(msg);
-                         return sl_rig::toMono8(cv->image, msg->encoding, converted).clone();
-                       });
+      collector_.offer(static_cast<std::int64_t>(msg->header.stamp.toNSec()), [&msg] { return toMono8Copy(msg); });
     }
     catch (const std::exception& e)
     {
@@ -120,7 +112,6 @@ private:
     return res.success;
   }
 
-  // --- prompts -------------------------------------------------------------------------------
   void say(const std::string& text)
   {
     NODELET_INFO("%s", text.c_str());
@@ -161,7 +152,6 @@ private:
     }
   }
 
-  // --- services ------------------------------------------------------------------------------
   bool onCapturePlane(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
   {
     std::lock_guard<std::mutex> lock(work_mutex_);

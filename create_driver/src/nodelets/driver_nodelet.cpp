@@ -274,9 +274,9 @@ private:
   ros::WallTimer diag_timer_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
   std::unique_ptr<Server> server_;
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  std::unique_ptr<DriverDiagnostics> diagnostics_;
-  std::unique_ptr<SerialLink> link_;  // last: destroyed (and its thread joined) first
+  std::unique_ptr<DriverDiagnostics> diagnostics_;        // its callbacks are in updater_:
+  std::unique_ptr<diagnostic_updater::Updater> updater_;  // destroyed before it
+  std::unique_ptr<SerialLink> link_;                      // last: destroyed (and its thread joined) first
 };
 
 }  // namespace create_driver

@@ -10,19 +10,19 @@ namespace sl_navigation
 {
 namespace
 {
-constexpr int kSplitCells = 8;        // a lane is split where it gains nothing for this many cells (0.4 m)
-constexpr int kMaxOffers = 3;         // a target offered this often is not offered again
-constexpr double kSeedRadius = 0.4;   // m searched for a centre cell when the robot stands on none
-constexpr double kFailRadius = 0.2;   // m around a failed goal not offered again
-constexpr double kTriedRadius = 0.3;  // m around a looked-at frontier cell marked tried
-constexpr int kEdgeTries = 40;        // ring cells tried as the start of an edge pass per call
-constexpr double kTrackMargin = 0.05;  // m of the disc's rim a target does not count on (tracking errors)
+constexpr int kSplitCells = 8;              // a lane is split where it gains nothing for this many cells (0.4 m)
+constexpr int kMaxOffers = 3;               // a target offered this often is not offered again
+constexpr double kSeedRadius = 0.4;         // m searched for a centre cell when the robot stands on none
+constexpr double kFailRadius = 0.2;         // m around a failed goal not offered again
+constexpr double kTriedRadius = 0.3;        // m around a looked-at frontier cell marked tried
+constexpr int kEdgeTries = 40;              // ring cells tried as the start of an edge pass per call
+constexpr double kTrackMargin = 0.05;       // m of the disc's rim a target does not count on (tracking errors)
 constexpr double kLookAroundSpacing = 1.0;  // m between the places the robot turns around to look
-constexpr double kGuardMargin = 0.045;  // m beyond robot_radius kept to occupied cell centres by the guard
-constexpr double kBlockedTime = 2.0;    // s BLOCKED before an escape
-constexpr double kEscapeReach = 0.6;    // m searched for the obstacle to turn away from
-constexpr double kEscapeDistance = 0.15;  // m crept away
-constexpr double kEscapeSpeed = 0.05;     // m/s
+constexpr double kGuardMargin = 0.045;      // m beyond robot_radius kept to occupied cell centres by the guard
+constexpr double kBlockedTime = 2.0;        // s BLOCKED before an escape
+constexpr double kEscapeReach = 0.6;        // m searched for the obstacle to turn away from
+constexpr double kEscapeDistance = 0.15;    // m crept away
+constexpr double kEscapeSpeed = 0.05;       // m/s
 
 void require(bool ok, const char* name, const std::string& what)
 {
@@ -41,7 +41,8 @@ void CoverageParams::validate() const
           "must be in [0.05, robot diameter " + std::to_string(d) + ") m, got " + std::to_string(lane_spacing));
   require(edge_clearance >= 0.0 && edge_clearance <= 0.5, "edge_clearance",
           "must be in [0, 0.5] m, got " + std::to_string(edge_clearance));
-  require(edge_speed > 0.0 && edge_speed <= 0.5, "edge_speed", "must be in (0, 0.5] m/s, got " + std::to_string(edge_speed));
+  require(edge_speed > 0.0 && edge_speed <= 0.5, "edge_speed",
+          "must be in (0, 0.5] m/s, got " + std::to_string(edge_speed));
   require(edge_length > 0.0 && edge_length <= 50.0, "edge_length",
           "must be in (0, 50] m, got " + std::to_string(edge_length));
   require(waypoint_spacing >= 0.1 && waypoint_spacing <= 10.0, "waypoint_spacing",
@@ -339,7 +340,8 @@ bool CoveragePlanner::lane(const NavGrid& grid, CoverageTarget& out)
   std::int32_t best = std::numeric_limits<std::int32_t>::max();
   std::vector<std::size_t> cells;
   std::vector<std::size_t> best_cells;
-  auto close = [&](double sum) {
+  auto close = [&](double sum)
+  {
     while (!cells.empty() && gain_[cells.back()] == 0)
     {
       cells.pop_back();
@@ -414,8 +416,8 @@ std::vector<std::size_t> CoveragePlanner::trace(std::size_t start) const
           continue;
         }
         // Prefer gaining cells, then going straight on, then orthogonal steps (a thin contour).
-        const double score = (gain_[index(ix + dx, iy + dy)] > 0 ? 10.0 : 0.0) + (dx * pdx + dy * pdy) -
-                             0.1 * std::abs(dx * dy);
+        const double score =
+            (gain_[index(ix + dx, iy + dy)] > 0 ? 10.0 : 0.0) + (dx * pdx + dy * pdy) - 0.1 * std::abs(dx * dy);
         if (score > best)
         {
           best = score;
@@ -640,8 +642,8 @@ CoverageTarget CoveragePlanner::next(const NavGrid& grid, const CoverageGrid& co
     pending_frontier_ = false;
   }
   CoverageTarget out;
-  const bool found = params_.edges_first ? (edge(grid, out) || lane(grid, out) || spot(grid, out)) :
-                                           (lane(grid, out) || edge(grid, out) || spot(grid, out));
+  const bool found = params_.edges_first ? (edge(grid, out) || lane(grid, out) || spot(grid, out))
+                                         : (lane(grid, out) || edge(grid, out) || spot(grid, out));
   if (!found && !frontier(grid, out) && !lookAround(pose, out))
   {
     out = CoverageTarget();
@@ -657,15 +659,16 @@ CoverageTarget CoveragePlanner::next(const NavGrid& grid, const CoverageGrid& co
 }
 
 CoverageRunner::CoverageRunner(const NavigatorParams& nav, const CoverageParams& coverage)
-  : nav_(nav)
-  , planner_(
-        [&] {
+  : nav_(nav),
+    planner_(
+        [&]
+        {
           CoverageParams c = coverage;
           c.planner = nav.planner;  // the same disc and lethal distance as the navigator's
           return c;
         }(),
-        nav_.grid().width())
-  , coverage_(nav_.grid(), nav.planner.robot_radius)
+        nav_.grid().width()),
+    coverage_(nav_.grid(), nav.planner.robot_radius)
 {
 }
 
@@ -834,9 +837,9 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt)
     progress_ = coverage_.progress(planner_.floor());
     progress_time_ = now;
   }
-  const double cap = target_.mode == CoverageMode::EDGE && !done_ ?
-                         std::max(0.0, target_.speed_limit - nav_.params().follower.acceleration * dt) :
-                         std::numeric_limits<double>::infinity();
+  const double cap = target_.mode == CoverageMode::EDGE && !done_
+                         ? std::max(0.0, target_.speed_limit - nav_.params().follower.acceleration * dt)
+                         : std::numeric_limits<double>::infinity();
   out_ = nav_.step(pose, now, cap);
   const bool guarded = out_.linear > 0.0 && !safe(pose, out_.linear, out_.angular, now);
   watchBlocked(pose, now, guarded);

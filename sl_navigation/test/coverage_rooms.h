@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -59,8 +60,8 @@ inline Room livingRoom()
 {
   Room r{ "living", World(), -2.0, -1.75, 2.0, 1.75 };
   walls(r.world, r.x0, r.y0, r.x1, r.y1);
-  r.world.box(-1.6, 0.95, 0.2, 1.75);   // sofa
-  r.world.box(0.72, 1.2, 1.3, 1.75);    // cabinet: a 0.52 m gap to the sofa
+  r.world.box(-1.6, 0.95, 0.2, 1.75);          // sofa
+  r.world.box(0.72, 1.2, 1.3, 1.75);           // cabinet: a 0.52 m gap to the sofa
   legs(r.world, -0.4, -0.6, 1.2, 0.8, 0.025);  // table
   legs(r.world, 1.0, -0.8, 0.4, 0.4, 0.02);    // chair
   legs(r.world, -1.5, -1.2, 0.4, 0.4, 0.02);   // chair
@@ -73,10 +74,10 @@ inline Room diningRoom()
 {
   Room r{ "dining", World(), -2.25, -1.6, 2.25, 1.6 };
   walls(r.world, r.x0, r.y0, r.x1, r.y1);
-  r.world.box(-2.25, -1.0, -1.5, 1.0);  // sofa
-  r.world.box(-0.98, -0.5, -0.6, 0.5);  // coffee table (solid): a 0.52 m passage to the sofa
-  legs(r.world, 1.0, 0.0, 1.2, 0.8, 0.025);   // dining table
-  legs(r.world, 1.0, 0.8, 0.4, 0.4, 0.02);    // chairs
+  r.world.box(-2.25, -1.0, -1.5, 1.0);       // sofa
+  r.world.box(-0.98, -0.5, -0.6, 0.5);       // coffee table (solid): a 0.52 m passage to the sofa
+  legs(r.world, 1.0, 0.0, 1.2, 0.8, 0.025);  // dining table
+  legs(r.world, 1.0, 0.8, 0.4, 0.4, 0.02);   // chairs
   legs(r.world, 1.0, -0.8, 0.4, 0.4, 0.02);
   return r;
 }
@@ -87,11 +88,11 @@ inline Room officeRoom()
 {
   Room r{ "office", World(), -2.0, -2.0, 2.0, 2.0 };
   walls(r.world, r.x0, r.y0, r.x1, r.y1);
-  r.world.box(1.0, 1.0, 2.0, 2.0);     // the missing corner
-  r.world.box(-0.2, 1.3, 0.48, 2.0);   // shelf: a 0.52 m gap to the corner
+  r.world.box(1.0, 1.0, 2.0, 2.0);             // the missing corner
+  r.world.box(-0.2, 1.3, 0.48, 2.0);           // shelf: a 0.52 m gap to the corner
   legs(r.world, 0.3, -1.65, 1.4, 0.7, 0.025);  // desk
   legs(r.world, 0.3, -0.95, 0.4, 0.4, 0.02);   // chair
-  r.world.box(-2.0, -0.8, -1.2, 1.0);  // sofa
+  r.world.box(-2.0, -0.8, -1.2, 1.0);          // sofa
   return r;
 }
 
@@ -145,6 +146,7 @@ struct CleanRun
   int targets[5] = { 0, 0, 0, 0, 0 };
   double mode_time[6] = { 0, 0, 0, 0, 0, 0 };  // per FollowMode, and guarded/escaping (cover)
   int escapes = 0;
+  double wall_band = 0.0;  // m, median uncovered band along the straight outer walls (cover)
 };
 
 /// Coverage of the truth floor by the discs at @p poses so far (kept in @p truth_cov).
@@ -166,6 +168,47 @@ struct TruthMeter
     return coverage.progress(floor);
   }
 };
+
+/// Median (m) over points every 0.05 m along the room's outer walls (0.3 m from the corners) of the
+/// distance from the wall to the first covered cell inward (up to 0.6 m); points whose way inward
+/// meets furniture first are left out.
+inline double wallBand(const Room& room, const TruthMeter& meter)
+{
+  std::vector<double> bands;
+  auto probe = [&](double x, double y, double nx, double ny)
+  {
+    for (double d = 0.0; d <= 0.6; d += 0.01)
+    {
+      const double px = x + nx * (d + 0.005), py = y + ny * (d + 0.005);
+      if (room.world.occupied(px, py))
+      {
+        return;  // furniture against the wall
+      }
+      if (meter.coverage.covered(meter.grid.indexX(px), meter.grid.indexY(py)))
+      {
+        bands.push_back(d);
+        return;
+      }
+    }
+    bands.push_back(0.6);
+  };
+  for (double x = room.x0 + 0.3; x <= room.x1 - 0.3; x += 0.05)
+  {
+    probe(x, room.y0 + 0.02, 0.0, 1.0);  // the walls' inner faces lie one truth cell inside the bounds
+    probe(x, room.y1, 0.0, -1.0);
+  }
+  for (double y = room.y0 + 0.3; y <= room.y1 - 0.3; y += 0.05)
+  {
+    probe(room.x0 + 0.02, y, 1.0, 0.0);
+    probe(room.x1, y, -1.0, 0.0);
+  }
+  if (bands.empty())
+  {
+    return 0.0;
+  }
+  std::nth_element(bands.begin(), bands.begin() + bands.size() / 2, bands.end());
+  return bands[bands.size() / 2];
+}
 
 /// Records a step of @p world at @p pose in @p run; true when it touches.
 inline bool record(const World& world, const Pose& before, const Pose& pose, CleanRun& run)
@@ -190,7 +233,7 @@ inline NavigatorParams cleaningNavigator()
 
 /// The coverage runner on the kinematic robot for @p limit s; coverage reported at @p times (s).
 inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::vector<double>& times,
-                         const CoverageParams& cp = CoverageParams())
+                         const CoverageParams& cp = CoverageParams(), const std::string& picture = "")
 {
   CleanRun run;
   CoverageRunner runner(cleaningNavigator(), cp);
@@ -238,7 +281,15 @@ inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::v
       ++next_time;
     }
   }
+  if (!picture.empty())  // the map with the coverage at the end, as a PPM file
+  {
+    std::vector<std::uint8_t> rgb;
+    runner.coverage().toRgb(runner.navigator().grid(), 100.0 + t, runner.planner().floor(), rgb);
+    const int w = runner.coverage().width();
+    sl_navigation::writePpm(picture.c_str(), rgb, w, w);
+  }
   run.progress = runner.progress();
+  run.wall_band = wallBand(room, meter);
   run.escapes = runner.escapes();
   std::copy(runner.targets(), runner.targets() + 5, run.targets);
   return run;
@@ -246,8 +297,7 @@ inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::v
 
 /// Bump and turn: straight at 0.3 m/s until the bumper touches, back 0.05 m, turn a random angle of
 /// 0.5..pi rad either way at 1 rad/s (a benchmark reference driving the robot directly).
-inline CleanRun runBump(const Room& room, Pose pose, double limit, const std::vector<double>& times,
-                        unsigned seed)
+inline CleanRun runBump(const Room& room, Pose pose, double limit, const std::vector<double>& times, unsigned seed)
 {
   CleanRun run;
   std::mt19937 rng(seed);

@@ -15,9 +15,9 @@ namespace sl_navigation
 /// What a cell of the reachable floor is (see CoveragePlanner::update()).
 enum class FloorCell : std::uint8_t
 {
-  None = 0,    ///< not reachable known floor (occupied, unknown, too narrow, or cut off)
-  Swept = 1,   ///< known free, within robot_radius of a reachable centre cell: the disc can pass over it
-  Centre = 2   ///< also a reachable centre: known free, centre_clearance from obstacles, connected to the robot
+  None = 0,   ///< not reachable known floor (occupied, unknown, too narrow, or cut off)
+  Swept = 1,  ///< known free, within robot_radius of a reachable centre cell: the disc can pass over it
+  Centre = 2  ///< also a reachable centre: known free, centre_clearance from obstacles, connected to the robot
 };
 
 /**

@@ -20,7 +20,7 @@ struct CoverageParams
   PlannerParams planner;          ///< the navigator's (robot_radius, lethal_margin): targets keep its lethal clearance
   double lane_spacing = 0.25;     ///< m between lanes (whole cells), below the robot's diameter (lane_spacing)
   bool lanes_along_x = true;      ///< lanes run along odom x (else along y) (lanes_along_x)
-  double edge_clearance = 0.05;   ///< m between the disc and the near side of known occupied cells on an edge pass (edge_clearance)
+  double edge_clearance = 0.05;   ///< m, disc to known occupied cells on an edge pass (edge_clearance)
   double edge_speed = 0.1;        ///< m/s, the most an edge pass drives (edge_speed)
   double edge_length = 3.0;       ///< m of wall contour per edge pass
   bool edges_first = false;       ///< offer edge passes before lanes (edges_first)
@@ -54,10 +54,10 @@ const char* toString(CoverageMode mode);
 struct CoverageTarget
 {
   CoverageMode mode = CoverageMode::DONE;
-  std::vector<NavGoal> goals;  ///< in odom; empty for DONE
+  std::vector<NavGoal> goals;                                    ///< in odom; empty for DONE
   double speed_limit = std::numeric_limits<double>::infinity();  ///< m/s (edge_speed for EDGE)
-  int gain = 0;                ///< uncovered floor cells the target sweeps (estimate)
-  std::string text;            ///< a sentence with the numbers
+  int gain = 0;                                                  ///< uncovered floor cells the target sweeps (estimate)
+  std::string text;                                              ///< a sentence with the numbers
 };
 
 /**
@@ -81,8 +81,8 @@ struct CoverageTarget
  * edge_length), spots (the nearest cell gaining min_gain); only when none is left, a frontier
  * (known free cell beside unknown space) seen from a centre cell view_min..view_max from it, facing
  * it; when a frontier lies within view_max but has no viewpoint (at the start, when the camera has
- * seen too little), a turn in place in three steps, once per metre; DONE when none of these is left. Each frontier is looked at once; targets that fail
- * (failed()) or are offered three times are not offered again.
+ * seen too little), a turn in place in three steps, once per metre; DONE when none of these is left. Each frontier is
+ * looked at once; targets that fail (failed()) or are offered three times are not offered again.
  */
 class CoveragePlanner
 {
@@ -139,20 +139,20 @@ private:
   double origin_y_ = 0.0;
   double centre_clearance_ = 0.0;
   std::vector<FloorCell> floor_;
-  std::vector<std::int32_t> dist_;     // flood-fill steps from the robot (-1: not reached)
-  std::vector<std::uint16_t> gain_;    // per centre cell
-  std::vector<std::uint8_t> blocked_;  // 1: failed or offered too often, not offered again
-  std::vector<std::uint8_t> offers_;   // targets starting or ending here so far
-  std::vector<std::uint8_t> tried_;    // frontier cells looked at
-  std::vector<std::uint8_t> ring_;     // outermost centre cells (edge passes), per update()
-  std::vector<std::uint8_t> pass_;     // 2: known free centre, 1: unknown passable, 0: neither
-  std::vector<std::uint32_t> queue_;   // the flood fill, in order of distance
-  std::vector<std::uint32_t> centres_; // the reached centre cells, in order of distance
-  std::vector<std::pair<int, int>> disc_;  // cell offsets within robot_radius
+  std::vector<std::int32_t> dist_;          // flood-fill steps from the robot (-1: not reached)
+  std::vector<std::uint16_t> gain_;         // per centre cell
+  std::vector<std::uint8_t> blocked_;       // 1: failed or offered too often, not offered again
+  std::vector<std::uint8_t> offers_;        // targets starting or ending here so far
+  std::vector<std::uint8_t> tried_;         // frontier cells looked at
+  std::vector<std::uint8_t> ring_;          // outermost centre cells (edge passes), per update()
+  std::vector<std::uint8_t> pass_;          // 2: known free centre, 1: unknown passable, 0: neither
+  std::vector<std::uint32_t> queue_;        // the flood fill, in order of distance
+  std::vector<std::uint32_t> centres_;      // the reached centre cells, in order of distance
+  std::vector<std::pair<int, int>> disc_;   // cell offsets within robot_radius
   std::vector<std::pair<int, int>> inner_;  // cell offsets within robot_radius - 0.05 m (what a target counts)
-  std::vector<std::pair<int, int>> near_;  // cell offsets nearer than the centre clearance
-  std::vector<Cell> cells_;                // the grid's states at the last update()
-  std::vector<Point> looked_around_;  // where lookAround() was offered
+  std::vector<std::pair<int, int>> near_;   // cell offsets nearer than the centre clearance
+  std::vector<Cell> cells_;                 // the grid's states at the last update()
+  std::vector<Point> looked_around_;        // where lookAround() was offered
   bool pending_frontier_ = false;
   NavGoal frontier_seen_;  // the frontier of the last FRONTIER target (marked tried at the next call)
 };

@@ -64,6 +64,26 @@ void validateConfig(const DriverConfig& c)
     throw std::invalid_argument("wheel_base must be > 0");
 }
 
+OiMode parseOiMode(const std::string& name)
+{
+  if (name == "safe")
+    return OiMode::SAFE;
+  if (name == "full")
+    return OiMode::FULL;
+  if (name == "passive")
+    return OiMode::PASSIVE;
+  throw std::invalid_argument("oi_mode must be safe, full or passive (got '" + name + "')");
+}
+
+DriveCommandType parseDriveCommand(const std::string& name)
+{
+  if (name == "direct")
+    return DriveCommandType::DIRECT;
+  if (name == "radius")
+    return DriveCommandType::RADIUS;
+  throw std::invalid_argument("drive_command must be direct or radius (got '" + name + "')");
+}
+
 std::vector<uint8_t> driverStreamIds(Model model)
 {
   std::vector<uint8_t> ids = {

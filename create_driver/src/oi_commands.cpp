@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace create_driver
 {
@@ -29,6 +30,15 @@ unsigned defaultBaud(Model model)
 double defaultWheelBase(Model model)
 {
   return model == Model::CREATE_2 ? 0.235 : 0.258;
+}
+
+Model parseModel(const std::string& name)
+{
+  if (name == "create_1" || name == "create")
+    return Model::CREATE_1;
+  if (name == "create_2" || name == "roomba_600")
+    return Model::CREATE_2;
+  throw std::invalid_argument("model must be create_1 or create_2 (got '" + name + "')");
 }
 
 namespace oi

@@ -10,6 +10,7 @@ list(APPEND SL_CAMERA_CORE_SOURCES
   src/camera/v4l2_source.cpp
   src/camera/capture_thread.cpp
   src/camera/camera_config.cpp
+  src/camera/capture_status.cpp
 )
 list(APPEND SL_CAMERA_CORE_LIBRARIES Threads::Threads)
 
@@ -26,13 +27,18 @@ else()
                  "(install libaravis-dev to add it)")
 endif()
 
-list(APPEND SL_CAMERA_NODELET_SOURCES src/nodelets/camera_nodelet.cpp)
+list(APPEND SL_CAMERA_NODELET_SOURCES
+  src/nodelets/camera_params.cpp
+  src/nodelets/camera_diagnostics.cpp
+  src/nodelets/camera_image.cpp
+  src/nodelets/camera_nodelet.cpp)
 
 list(APPEND SL_CAMERA_TEST_SOURCES
   test/camera_player_test.cpp
   test/camera_capture_thread_test.cpp
   test/camera_v4l2_test.cpp
   test/camera_config_test.cpp
+  test/camera_status_test.cpp
 )
 if(ARAVIS_FOUND)
   list(APPEND SL_CAMERA_TEST_SOURCES test/camera_aravis_test.cpp)

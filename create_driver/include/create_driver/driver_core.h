@@ -56,6 +56,14 @@ constexpr double kMaxCommandTimeout = 0.3;
 ///         driver's ROS parameter (max_speed, drive_distance/decel, ...).
 void validateConfig(const DriverConfig& config);
 
+/// @brief The mode called @p name: safe, full or passive.
+/// @throws std::invalid_argument starting with "oi_mode must be"
+OiMode parseOiMode(const std::string& name);
+
+/// @brief The drive command called @p name: direct or radius.
+/// @throws std::invalid_argument starting with "drive_command must be"
+DriveCommandType parseDriveCommand(const std::string& name);
+
 /// @brief Packet ids the driver streams for a model (7, 9..12, 18..26, 35; plus 43, 44 on the
 /// Create 2).
 std::vector<uint8_t> driverStreamIds(Model model);

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace create_driver
@@ -38,6 +39,10 @@ unsigned defaultBaud(Model model);
 
 /// @brief Distance between the wheels in m: 0.258 for the Create, 0.235 for the Create 2.
 double defaultWheelBase(Model model);
+
+/// @brief The model called @p name: create_1 (or create), create_2 (or roomba_600).
+/// @throws std::invalid_argument starting with "model must be"
+Model parseModel(const std::string& name);
 
 namespace oi
 {

@@ -1,6 +1,7 @@
 #include "driver_diagnostics.h"
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
+#include <ros/time.h>
 
 #include "create_driver/link_supervisor.h"
 #include "create_driver/oi_commands.h"
@@ -120,5 +121,82 @@ void batteryStatus(const SensorState& s, bool have, diagnostic_updater::Diagnost
   st.add("percentage", pct);
   st.add("temperature (C)", s.get(packet::TEMPERATURE));
   st.add("charging state", s.get(packet::CHARGING_STATE));
+}
+
+DriverDiagnostics::DriverDiagnostics(diagnostic_updater::Updater& updater, const DiagnosticsSources& sources)
+  : src_(sources)
+{
+  updater.setHardwareID("iRobot Create OI on " + src_.link_params.port);
+  updater.add("Connection", this, &DriverDiagnostics::connection);
+  updater.add("Sensor stream", this, &DriverDiagnostics::stream);
+  updater.add("Control loop", this, &DriverDiagnostics::control);
+  updater.add("Safety", this, &DriverDiagnostics::safety);
+  updater.add("Commands", this, &DriverDiagnostics::commands);
+  updater.add("Battery", this, &DriverDiagnostics::battery);
+}
+
+void DriverDiagnostics::connection(diagnostic_updater::DiagnosticStatusWrapper& st)
+{
+  connectionStatus(src_.link(), src_.link_params, src_.model_name, st);
+}
+
+void DriverDiagnostics::stream(diagnostic_updater::DiagnosticStatusWrapper& st)
+{
+  StreamReport r;
+  {
+    std::lock_guard<std::mutex> lock(*src_.mutex);
+    r = src_.supervisor->takeStreamReport(ros::WallTime::now().toSec());
+  }
+  streamStatus(r.counters, r.frames_estimated, r.rate, r.new_corrupt, st);
+}
+
+void DriverDiagnostics::control(diagnostic_updater::DiagnosticStatusWrapper& st)
+{
+  const SerialLinkStats ls = src_.link();
+  DriverStats ds;
+  {
+    std::lock_guard<std::mutex> lock(*src_.mutex);
+    ds = src_.supervisor->core().stats();
+  }
+  const bool new_overruns = ls.overruns > last_overruns_;
+  last_overruns_ = ls.overruns;
+  controlStatus(ls, ds, new_overruns, st);
+}
+
+void DriverDiagnostics::safety(diagnostic_updater::DiagnosticStatusWrapper& st)
+{
+  std::lock_guard<std::mutex> lock(*src_.mutex);
+  const DriverCore& core = src_.supervisor->core();
+  const HazardLatch& l = core.latch();
+  safetyStatus(l.latched(), l.reason(), core.stats(), core.reportedMode(), core.config().mode, st);
+}
+
+void DriverDiagnostics::commands(diagnostic_updater::DiagnosticStatusWrapper& st)
+{
+  std::string lost;
+  double age = 0.0;
+  DriverStats ds;
+  double timeout = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(*src_.mutex);
+    const DriverCore& core = src_.supervisor->core();
+    lost = core.commandSourceLost();
+    age = core.commandAge(steadyNow());
+    ds = core.stats();
+    timeout = core.config().command_timeout;
+  }
+  commandsStatus(lost, age, timeout, ds, st);
+}
+
+void DriverDiagnostics::battery(diagnostic_updater::DiagnosticStatusWrapper& st)
+{
+  SensorState s;
+  bool have = false;
+  {
+    std::lock_guard<std::mutex> lock(*src_.mutex);
+    s = src_.supervisor->core().sensors();
+    have = src_.supervisor->core().parserCounters().valid_frames > 0;
+  }
+  batteryStatus(s, have, st);
 }
 }  // namespace create_driver

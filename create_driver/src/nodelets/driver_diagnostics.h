@@ -2,11 +2,14 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <mutex>
 #include <string>
 
-#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <diagnostic_updater/diagnostic_updater.h>
 
 #include "create_driver/driver_core.h"
+#include "create_driver/driver_supervisor.h"
 #include "create_driver/serial_link.h"
 
 namespace create_driver
@@ -37,4 +40,32 @@ void commandsStatus(const std::string& lost, double age, double command_timeout,
 
 /// *Battery*: from the sensors @p s (STALE without @p have data); WARN below 15 %.
 void batteryStatus(const SensorState& s, bool have, diagnostic_updater::DiagnosticStatusWrapper& st);
+
+/// What the driver's diagnostics read (the supervisor under its mutex).
+struct DiagnosticsSources
+{
+  std::mutex* mutex = nullptr;
+  DriverSupervisor* supervisor = nullptr;
+  std::function<SerialLinkStats()> link;  ///< the serial link's counters
+  SerialLinkParams link_params;
+  std::string model_name;
+};
+
+/// The six statuses above, added to an updater and filled from @p sources at each update.
+class DriverDiagnostics
+{
+public:
+  DriverDiagnostics(diagnostic_updater::Updater& updater, const DiagnosticsSources& sources);
+
+private:
+  void connection(diagnostic_updater::DiagnosticStatusWrapper& st);
+  void stream(diagnostic_updater::DiagnosticStatusWrapper& st);
+  void control(diagnostic_updater::DiagnosticStatusWrapper& st);
+  void safety(diagnostic_updater::DiagnosticStatusWrapper& st);
+  void commands(diagnostic_updater::DiagnosticStatusWrapper& st);
+  void battery(diagnostic_updater::DiagnosticStatusWrapper& st);
+
+  DiagnosticsSources src_;
+  uint64_t last_overruns_ = 0;
+};
 }  // namespace create_driver

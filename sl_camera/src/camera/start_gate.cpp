@@ -31,4 +31,17 @@ bool shouldStartPlayback(int image_subscribers, int info_subscribers, double ima
   return info_subscribers > 0 || image_only_for >= image_only_grace;
 }
 
+bool PlaybackStarter::update(int image_subscribers, int info_subscribers, double now)
+{
+  if (image_subscribers <= 0)
+    image_subscribed_ = false;
+  else if (!image_subscribed_)
+  {
+    image_subscribed_ = true;
+    image_subscribed_since_ = now;
+  }
+  const double image_for = image_subscribers > 0 ? now - image_subscribed_since_ : 0.0;
+  return shouldStartPlayback(image_subscribers, info_subscribers, image_for, image_only_grace_);
+}
+
 }  // namespace sl_camera

@@ -52,4 +52,17 @@ std::string UnreadableFiles::join(const std::vector<std::string>& names)
   return text;
 }
 
+std::vector<std::string> UnreadableFilesLog::due(const UnreadableFiles& files, double now)
+{
+  if (have_logged_ && now - last_ < interval_)
+    return {};
+  std::vector<std::string> fresh = files.from(logged_);
+  if (fresh.empty())
+    return fresh;
+  logged_ += fresh.size();
+  have_logged_ = true;
+  last_ = now;
+  return fresh;
+}
+
 }  // namespace sl_camera

@@ -6,6 +6,7 @@
 
 #include <tf2/LinearMath/Matrix3x3.h>
 #include <tf2/LinearMath/Quaternion.h>
+#include <tf2/utils.h>
 
 namespace sl_obstacle
 {
@@ -225,5 +226,30 @@ std::string appendRays(const sensor_msgs::PointCloud2& cloud, const geometry_msg
     }
   }
   return std::string();
+}
+
+std::string imageRays(const sensor_msgs::PointCloud2& ray_ends, const sensor_msgs::PointCloud2* points,
+                      const geometry_msgs::Transform& transform, std::vector<MapRay>& rays, std::string& points_error)
+{
+  rays.clear();
+  points_error.clear();
+  const std::string e = appendRays(ray_ends, transform, true, rays);
+  if (e.empty() && points != nullptr && points->header.frame_id == ray_ends.header.frame_id)
+  {
+    points_error = appendRays(*points, transform, false, rays);
+  }
+  return e;
+}
+
+const char* toString(tf2_ros::FilterFailureReason reason)
+{
+  return reason == tf2_ros::filter_failure_reasons::OutTheBack     ? "older than the tf buffer"
+         : reason == tf2_ros::filter_failure_reasons::EmptyFrameID ? "empty frame_id"
+                                                                   : "transform unavailable";
+}
+
+Pose2D toPose2D(const geometry_msgs::Transform& t)
+{
+  return Pose2D{ t.translation.x, t.translation.y, tf2::getYaw(t.rotation) };
 }
 }  // namespace sl_obstacle

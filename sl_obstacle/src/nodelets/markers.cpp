@@ -127,4 +127,68 @@ void deleteEmptyPointMarkers(visualization_msgs::MarkerArray& markers)
     }
   }
 }
+
+void obstacleMarkers(const Supervisor& sup, const std::vector<Point>& points, const Settings& settings,
+                     const std::string& volume_frame, const std::string& map_frame, const ros::Time& stamp,
+                     const ros::Time& now, visualization_msgs::MarkerArray& out)
+{
+  using visualization_msgs::Marker;
+  volumeMarkers(sup.volumeResult(), settings.checker.volume, points, sup.blocked(), volume_frame, stamp, out);
+  Marker& footprint = out.markers[5];
+  footprint.ns = "footprint";
+  footprint.header.frame_id = map_frame;
+  footprint.header.stamp = now;
+  footprint.action = sup.teleopActive() && sup.localized() ? Marker::ADD : Marker::DELETE;
+  footprintMarker(sup.filterOutput(), sup.pose(), settings.filter.footprint.radius, footprint);
+  deleteEmptyPointMarkers(out);
+}
+
+void localMapGrid(const LocalMap& map, double resolution, const std::string& frame, const ros::Time& now,
+                  nav_msgs::OccupancyGrid& grid)
+{
+  int width = 0;
+  double x0 = 0.0;
+  double y0 = 0.0;
+  map.toOccupancy(now.toSec(), grid.data, x0, y0, width);
+  grid.header.stamp = now;
+  grid.header.frame_id = frame;
+  grid.info.map_load_time = now;
+  grid.info.resolution = static_cast<float>(resolution);
+  grid.info.width = static_cast<uint32_t>(width);
+  grid.info.height = width > 0 ? static_cast<uint32_t>(grid.data.size() / static_cast<std::size_t>(width)) : 0U;
+  grid.info.origin.position.x = x0;
+  grid.info.origin.position.y = y0;
+  grid.info.origin.orientation.w = 1.0;
+}
+
+Display::Display(ros::NodeHandle& nh, const NodeletParams& params, bool map)
+  : params_(params), markers_pub_(nh.advertise<visualization_msgs::MarkerArray>("markers", 1))
+{
+  if (map)
+  {
+    map_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("local_map", 1);
+  }
+}
+
+void Display::showCloud(const Supervisor& sup, const std::vector<Point>& points, const ros::Time& stamp)
+{
+  if (markers_pub_.getNumSubscribers() == 0)
+  {
+    return;
+  }
+  obstacleMarkers(sup, points, params_.settings, params_.target_frame, params_.odom_frame, stamp, ros::Time::now(),
+                  markers_);
+  markers_pub_.publish(markers_);
+}
+
+void Display::showMap(const Supervisor& sup, const ros::Time& now)
+{
+  if (!sup.world() || !sup.localized() || map_pub_.getNumSubscribers() == 0 || (now - map_published_).toSec() < 0.5)
+  {
+    return;
+  }
+  map_published_ = now;
+  localMapGrid(sup.world()->map(), params_.settings.world.map.resolution, params_.odom_frame, now, grid_);
+  map_pub_.publish(grid_);
+}
 }  // namespace sl_obstacle

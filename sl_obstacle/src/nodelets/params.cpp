@@ -180,6 +180,19 @@ void readFrame(const ros::NodeHandle& pnh, const std::string& name, std::string&
 }
 }  // namespace
 
+std::string reconfigureError(const ObstacleConfig& config, const ObstacleConfig& old)
+{
+  try
+  {
+    validateConfig(config);
+  }
+  catch (const std::invalid_argument& invalid)
+  {
+    return invalid.what();
+  }
+  return config.use_map != old.use_map ? "use_map is read at start-up only" : "";
+}
+
 NodeletParams loadParams(const ros::NodeHandle& pnh)
 {
   NodeletParams p;

@@ -7,17 +7,10 @@
 
 #include "sl_obstacle/ObstacleConfig.h"
 #include "sl_obstacle/settings.h"
+#include "sl_obstacle/supervisor.h"  // CommandMode
 
 namespace sl_obstacle
 {
-/// How forward motion is commanded.
-enum class CommandMode
-{
-  ACTION,   ///< drive_distance goals (sl_msgs/DriveDistance); turns via cmd_vel
-  CMD_VEL,  ///< cmd_vel only (forward goals run open loop)
-  FILTER    ///< no autonomy: cmd_vel_in passed through the safety filter to cmd_vel
-};
-
 /// Everything the nodelet reads from its private namespace.
 struct NodeletParams
 {
@@ -40,6 +33,10 @@ bool changesWorld(const ObstacleConfig& a, const ObstacleConfig& b);
 /// Checks a reconfigurable configuration: every value inside its Obstacle.cfg range and the core's
 /// rules (Settings::validate). @throws std::invalid_argument "<name> ..." naming the parameter.
 void validateConfig(const ObstacleConfig& config);
+
+/// Why a reconfiguration from @p old to @p config is refused (validateConfig(), or a parameter read
+/// at start-up only that changed); empty when it is accepted.
+std::string reconfigureError(const ObstacleConfig& config, const ObstacleConfig& old);
 
 /// Reads every private parameter of @p pnh (defaults from Obstacle.cfg), checks types, ranges and
 /// relations. @throws std::invalid_argument with a message "parameter ~<name>: ..." on the first

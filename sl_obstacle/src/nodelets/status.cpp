@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "filter_output.h"
 #include "status_codes.h"  // the enums copied here equal the message constants
 
 namespace sl_obstacle
@@ -46,5 +47,27 @@ void fillDecisionStatus(const Decision& d, sl_msgs::ObstacleStatus& s)
   s.command_distance = d.distance;
   s.command_speed = d.speed;
   s.command_angular_speed = d.angular_speed;
+}
+
+void fillStatus(const Supervisor& sup, StatusKind kind, const ros::Time& now, const ros::Time& cloud_stamp,
+                const ros::Time& map_stamp, const std::string& frame, sl_msgs::ObstacleStatus& s)
+{
+  s.header.stamp = now;
+  s.header.frame_id = frame;
+  s.cloud_stamp = sup.haveFrame() ? cloud_stamp : ros::Time();
+  s.data_age = sup.haveFrame() ? (now - cloud_stamp).toSec() : std::numeric_limits<double>::infinity();
+  s.map_stamp = map_stamp;
+  fillCloudStatus(sup.volumeResult(), sup.haveFrame(), s);
+  const FrameSummary& f = sup.decisions().frame();
+  const bool mapped = sup.world() != nullptr && f.from_map;
+  fillMapStatus(f, mapped, mapped ? sup.world()->last().obstacle : 0.0, s);
+  if (kind == StatusKind::DECISION)
+  {
+    fillDecisionStatus(sup.decisions().last(), s);
+  }
+  else
+  {
+    fillFilterStatus(sup.filterOutput(), sup.command(), s);
+  }
 }
 }  // namespace sl_obstacle

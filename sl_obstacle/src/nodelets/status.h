@@ -1,8 +1,11 @@
 // The obstacle node's status message, filled from the core's results.
 #pragma once
 
+#include <string>
+
 #include "sl_msgs/ObstacleStatus.h"
 #include "sl_obstacle/decision_maker.h"
+#include "sl_obstacle/supervisor.h"
 #include "sl_obstacle/volume_checker.h"
 
 namespace sl_obstacle
@@ -17,4 +20,10 @@ void fillMapStatus(const FrameSummary& f, bool mapped, double map_obstacle, sl_m
 
 /// The decision @p d: state, reason, command (autonomy; no teleoperation input).
 void fillDecisionStatus(const Decision& d, sl_msgs::ObstacleStatus& s);
+
+/// The whole status at @p now (header in @p frame) from @p sup: the newest cloud (captured at
+/// @p cloud_stamp), the map (its newest image @p map_stamp) and, as @p kind says, the last decision
+/// or the last safety-filter step.
+void fillStatus(const Supervisor& sup, StatusKind kind, const ros::Time& now, const ros::Time& cloud_stamp,
+                const ros::Time& map_stamp, const std::string& frame, sl_msgs::ObstacleStatus& s);
 }  // namespace sl_obstacle

@@ -53,4 +53,26 @@ private:
  */
 bool shouldStartPlayback(int image_subscribers, int info_subscribers, double image_only_for, double image_only_grace);
 
+/**
+ * Keeps the time since the image topic got its subscriber and decides with shouldStartPlayback()
+ * when a held player starts. Not thread-safe: the owner guards it.
+ */
+class PlaybackStarter
+{
+public:
+  /** @param image_only_grace see shouldStartPlayback(), s (>= 0) */
+  explicit PlaybackStarter(double image_only_grace) : image_only_grace_(image_only_grace) {}
+
+  /**
+   * The subscriber counts at @p now (seconds of any one clock).
+   * @return true when playback is to start
+   */
+  bool update(int image_subscribers, int info_subscribers, double now);
+
+private:
+  double image_only_grace_;
+  bool image_subscribed_ = false;
+  double image_subscribed_since_ = 0.0;
+};
+
 }  // namespace sl_camera

@@ -54,4 +54,30 @@ private:
   std::vector<std::string> files_;
 };
 
+/**
+ * The log of the unreadable files: each name once, new names at most every @p interval. Not
+ * thread-safe: one thread logs.
+ */
+class UnreadableFilesLog
+{
+public:
+  /** @param interval shortest interval between two log lines, s */
+  explicit UnreadableFilesLog(double interval) : interval_(interval) {}
+
+  /**
+   * The names of @p files not logged yet, when a line is due at @p now (seconds of any one clock);
+   * empty otherwise. The names returned count as logged.
+   */
+  std::vector<std::string> due(const UnreadableFiles& files, double now);
+
+  /** Names logged so far. */
+  std::size_t logged() const { return logged_; }
+
+private:
+  double interval_;
+  std::size_t logged_ = 0;
+  bool have_logged_ = false;
+  double last_ = 0.0;
+};
+
 }  // namespace sl_camera

@@ -18,6 +18,7 @@ void NavigatorParams::validate() const
   detail::requireRange("progress_distance", progress_distance, 0.01, 10.0);
   detail::requireRange("refuse_time", refuse_time, 0.0, 60.0);
   detail::requireRange("switch_gain", switch_gain, 0.0, 10.0);
+  detail::requireRange("max_detour", max_detour, 1.0, 100.0);
   detail::requireRange("stuck_time", stuck_time, 0.5, 60.0);
   detail::requireRange("look_around", look_around, 0.0, M_PI);
   detail::requireRange("map_timeout", map_timeout, 0.1, 60.0);
@@ -108,6 +109,7 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   refuse_since_ = std::numeric_limits<double>::quiet_NaN();
   best_remaining_ = std::numeric_limits<double>::infinity();
   best_distance_ = std::numeric_limits<double>::infinity();
+  goal_distance_ = std::numeric_limits<double>::infinity();  // set at the first pose
   progress_time_ = now;
   has_last_pose_ = false;
   told_to_drive_ = false;
@@ -173,7 +175,7 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
     }
     plan_ = std::move(p);
     follower_.setPath(plan_.points, goal_.yaw, goal_.use_yaw);
-    if (detour)
+    if (detour && follower_.remaining() <= params_.max_detour * goal_distance_)
     {
       // An obstacle found on the way is no regress: progress counts along the detour from here.
       best_remaining_ = follower_.remaining();
@@ -198,6 +200,10 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
 
 void Navigator::track(const Pose& pose, double now)
 {
+  if (!std::isfinite(goal_distance_))
+  {
+    goal_distance_ = std::hypot(goal_.x - pose.x, goal_.y - pose.y);
+  }
   if (has_last_pose_)
   {
     out_.travelled += std::hypot(pose.x - last_pose_.x, pose.y - last_pose_.y);

@@ -102,6 +102,7 @@ void FilterParams::validate() const
   detail::requireInRange("input_timeout", input_timeout, 0.01, 60.0);
   detail::requireInRange("stale_timeout", stale_timeout, 0.01, 60.0);
   detail::requireInRange("creep_speed", creep_speed, 0.0, 0.05);
+  detail::requireInRange("creep_view_distance", creep_view, 0.0, 2.0);
 }
 
 const char* toString(FilterReason reason)
@@ -317,7 +318,7 @@ double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, doub
   // the arc crosses unseen is the ring around the body the camera cannot see.
   const bool may_creep = v > 0.0 && params_.creep_speed > 0.0 &&
                          centreLineSeen(map, in.pose.x, in.pose.y, in.pose.yaw, params_.footprint.radius,
-                                        params_.clearance, params_.clearance + 2.0 * map.params().resolution, in.now);
+                                        params_.creep_view, params_.creep_view + 2.0 * map.params().resolution, in.now);
   double speed = std::abs(v);
   creeping = false;
   for (int iteration = 0; iteration < 8 && speed >= kStill; ++iteration)

@@ -88,6 +88,7 @@ TEST(SafetyFilter, StraightAtAWallFollowsTheStoppingFormula)
   FilterParams p;
   p.clearance = 0.40;
   p.obstacle_clearance = 0.40;
+  p.creep_view = 0.40;
   const SafetyFilter filter(p);
   for (double x = 0.0; x <= 0.9; x += 0.05)
   {
@@ -165,6 +166,7 @@ TEST(SafetyFilter, AnArcThatGrazesALegIsSlowedByTheLegNotByTheWall)
   FilterParams p;
   p.clearance = 0.40;
   p.obstacle_clearance = 0.40;
+  p.creep_view = 0.40;
   const SafetyFilter filter(p);
   // Straight on, the leg stays outside the swept path: only the wall, far away, limits.
   FilterInput straight = inputAt(0.0, 0.0, 0.0, 0.3, 0.0);
@@ -297,6 +299,7 @@ TEST(SafetyFilter, CreepRuleAsAFormula)
   FilterParams p;
   p.clearance = 0.40;
   p.obstacle_clearance = 0.40;
+  p.creep_view = 0.40;
   const SafetyFilter filter(p);
   int crept = 0;
   for (int i = 0; i <= 25; ++i)
@@ -329,6 +332,16 @@ TEST(SafetyFilter, CreepRuleAsAFormula)
   EXPECT_FALSE(centreLineSeen(map, 0.2, 0.0, 0.0, kBody, p.clearance, p.clearance + 2.0 * kRes, 0.0));
   EXPECT_DOUBLE_EQ(filter.filter(map, inputAt(0.2, 0.0, 0.0, 0.3, 0.0)).command.linear, 0.0);
   EXPECT_DOUBLE_EQ(filter.filter(map, inputAt(0.45, 0.3, 0.0, 0.3, 0.0)).command.linear, 0.0);
+  // A smaller clearance to unknown space keeps the view check where the camera sees: at
+  // creep_view, not in the blind ring at the clearance.
+  FilterParams near_p = p;
+  near_p.clearance = 0.15;
+  const SafetyFilter near_filter(near_p);
+  const double x_seen = 0.5;  // the strip from 0.9 m: the centre line at 0.40 from the front edge is seen
+  EXPECT_FALSE(centreLineSeen(map, x_seen, 0.0, 0.0, kBody, 0.15, 0.15 + 2.0 * kRes, 0.0));
+  EXPECT_GT(near_filter.filter(map, inputAt(x_seen, 0.0, 0.0, 0.3, 0.0)).command.linear, 0.0);
+  near_p.creep_view = 0.15;
+  EXPECT_DOUBLE_EQ(SafetyFilter(near_p).filter(map, inputAt(x_seen, 0.0, 0.0, 0.3, 0.0)).command.linear, 0.0);
   // A cell holding evidence (a lone lit end 0.65 m ahead of base_link) ends the open travel there,
   // within the clearance: no creep.
   LocalMap lit{ MapParams() };
@@ -477,6 +490,9 @@ TEST(SafetyFilter, BadParametersAreNamed)
   p = FilterParams();
   p.creep_speed = 0.1;  // the creep is 0.05 m/s at most
   EXPECT_EQ(validationError(p).rfind("creep_speed", 0), 0U) << validationError(p);
+  p = FilterParams();
+  p.creep_view = 2.5;
+  EXPECT_EQ(validationError(p).rfind("creep_view_distance", 0), 0U) << validationError(p);
   p = FilterParams();
   p.obstacle_clearance = -0.1;
   EXPECT_EQ(validationError(p).rfind("obstacle_margin", 0), 0U) << validationError(p);

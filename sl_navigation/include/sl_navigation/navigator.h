@@ -24,6 +24,9 @@ struct NavigatorParams
   double progress_distance = 0.1;  ///< m of remaining path that count as progress
   double refuse_time = 2.0;        ///< s a blocked or enclosed goal must stay so before it is aborted (refuse_time)
   double switch_gain = 0.15;       ///< a new plan replaces a still passable one only when this much cheaper (share)
+  /// A detour forced by an obstacle on the path restarts the progress count, while it is at most
+  /// this many times the goal's straight-line distance when it was set (max_detour); longer ones do not
+  double max_detour = 2.5;
   double stuck_time = 3.0;         ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
   double look_around = 0.6;        ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
   double map_timeout = 2.0;        ///< s without a local map before the robot stops (map_timeout)
@@ -143,6 +146,7 @@ private:
   double refuse_since_ = std::numeric_limits<double>::quiet_NaN();
   double best_remaining_ = std::numeric_limits<double>::infinity();  // path left
   double best_distance_ = std::numeric_limits<double>::infinity();   // straight line to the goal
+  double goal_distance_ = 0.0;  // straight line from the first pose after setGoal() to the goal
   double progress_time_ = 0.0;
   bool has_last_pose_ = false;
   Pose last_pose_;

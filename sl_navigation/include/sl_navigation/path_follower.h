@@ -34,9 +34,9 @@ struct FollowerParams
   double swept_radius = 0.1875;     ///< m, robot radius + lateral margin (the safety filter's)
   double lookahead = 0.35;          ///< m, pure-pursuit look-ahead along the path
   double rotate_threshold = 0.8;    ///< rad: heading errors above this are turned in place first
-  double look_distance = 1.0;       ///< m from base_link: unknown path cells up to this far are looked at
-  double look_min_distance = 0.5;   ///< m from base_link: nearer unknown cells lie in the camera's blind ring
-  double view_angle = 0.24;         ///< rad, half the camera's horizontal view: unknown cells within it are not looked at
+  double look_distance = 1.2;       ///< m from base_link: unknown path cells up to this far are looked at
+  double look_min_distance = 0.75;  ///< m from base_link: nearer cells are seen too close to tell the floor free
+  double view_angle = 0.15;         ///< rad, half the view in which the floor is seen free: unknown cells in it are not looked at
   double look_tolerance = 0.15;     ///< rad: facing an unknown cell this well counts as looking at it
   double look_time = 0.7;           ///< s to wait facing an unknown cell before driving on (the filter decides)
   double goal_tolerance = 0.10;     ///< m (goal_tolerance)

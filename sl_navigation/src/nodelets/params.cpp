@@ -62,6 +62,7 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "progress_distance", n.progress_distance);
   get(pnh, "refuse_time", n.refuse_time);
   get(pnh, "switch_gain", n.switch_gain);
+  get(pnh, "max_detour", n.max_detour);
   get(pnh, "stuck_time", n.stuck_time);
   get(pnh, "look_around", n.look_around);
   get(pnh, "map_timeout", n.map_timeout);

@@ -52,6 +52,9 @@ struct FilterParams
   /// m/s, in [0, 0.05]: the forward speed allowed over cells never seen to hold anything, while the
   /// camera sees straight ahead at the clearance (0: never)
   double creep_speed = 0.05;
+  /// m ahead of the front edge where the centre line must be known for the creep
+  /// (creep_view_distance): where the camera sees the floor, not in its blind ring
+  double creep_view = 0.15;
 
   /// @throws std::invalid_argument when invalid, its message starting with the offending parameter's name.
   void validate() const;
@@ -142,7 +145,7 @@ struct FilterOutput
  * contact with a cloud point less the obstacle clearance, whichever is shorter (unknown cells within a
  * cell of an obstacle ahead, its shadow, are reached only through it and count as the obstacle); d_open: the same, except that unknown cells without evidence (never seen to hold
  * anything: the ring the camera cannot see) pass; C = 1 when the map knows the centre line straight
- * ahead from the clearance to two cells beyond it (centreLineSeen(): free or occupied, the camera
+ * ahead from creep_view to two cells beyond it (centreLineSeen(): free or occupied, the camera
  * sees where an obstacle would stop the robot), else 0; d_trail: travel until the disc (radius, no margin) covers a
  * cell off its trail or the swept disc a cell that is not free, less the lateral margin.
  *

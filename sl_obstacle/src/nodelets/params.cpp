@@ -110,6 +110,7 @@ Settings toSettings(const ObstacleConfig& c)
   f.footprint = w.footprint;
   f.clearance = c.safety_margin;
   f.obstacle_clearance = c.obstacle_margin < 0.0 ? c.safety_margin : c.obstacle_margin;
+  f.creep_view = c.creep_view_distance < 0.0 ? c.safety_margin : c.creep_view_distance;
   f.deceleration = c.deceleration;
   f.horizon = c.check_distance;
   f.input_timeout = c.input_timeout;

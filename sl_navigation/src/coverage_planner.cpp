@@ -110,10 +110,26 @@ CoveragePlanner::CoveragePlanner(const CoverageParams& params, int width)
   queue_.reserve(cells);
 }
 
-bool CoveragePlanner::seed(const NavGrid& grid, const Pose& pose, int& sx, int& sy) const
+bool CoveragePlanner::cellOf(double x, double y, int& ix, int& iy) const
 {
-  const int cx = grid.indexX(pose.x);
-  const int cy = grid.indexY(pose.y);
+  const double fx = std::floor((x - origin_x_) / resolution_);
+  const double fy = std::floor((y - origin_y_) / resolution_);
+  if (!(std::abs(fx) < 1e6 && std::abs(fy) < 1e6))  // NaN and far outside the map
+  {
+    return false;
+  }
+  ix = static_cast<int>(fx);
+  iy = static_cast<int>(fy);
+  return true;
+}
+
+bool CoveragePlanner::seed(const Pose& pose, int& sx, int& sy) const
+{
+  int cx = 0, cy = 0;
+  if (!cellOf(pose.x, pose.y, cx, cy))
+  {
+    return false;
+  }
   const int reach = static_cast<int>(std::ceil(kSeedRadius / resolution_));
   double best = std::numeric_limits<double>::infinity();
   for (int dy = -reach; dy <= reach; ++dy)
@@ -212,6 +228,12 @@ void CoveragePlanner::gains(const CoverageGrid& coverage)
 
 void CoveragePlanner::update(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now)
 {
+  if (grid.width() != n_ || coverage.width() != n_)
+  {
+    throw std::invalid_argument("CoveragePlanner: a map of " + std::to_string(grid.width()) + " and a coverage of " +
+                                std::to_string(coverage.width()) + " cells per side, the planner was made for " +
+                                std::to_string(n_));
+  }
   resolution_ = grid.params().resolution;
   origin_x_ = grid.originX();
   origin_y_ = grid.originY();
@@ -238,7 +260,7 @@ void CoveragePlanner::update(const NavGrid& grid, const CoverageGrid& coverage, 
   }
   int sx = 0;
   int sy = 0;
-  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !seed(grid, pose, sx, sy))
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !seed(pose, sx, sy))
   {
     std::fill(floor_.begin(), floor_.end(), FloorCell::None);
     std::fill(gain_.begin(), gain_.end(), 0);
@@ -281,8 +303,11 @@ void CoveragePlanner::offered(std::size_t i)
 void CoveragePlanner::markAround(std::vector<std::uint8_t>& mask, double x, double y, double radius)
 {
   const int reach = static_cast<int>(std::ceil(radius / resolution_));
-  const int cx = static_cast<int>(std::floor((x - origin_x_) / resolution_));
-  const int cy = static_cast<int>(std::floor((y - origin_y_) / resolution_));
+  int cx = 0, cy = 0;
+  if (!cellOf(x, y, cx, cy))
+  {
+    return;
+  }
   for (int dy = -reach; dy <= reach; ++dy)
   {
     for (int dx = -reach; dx <= reach; ++dx)
@@ -575,8 +600,11 @@ bool CoveragePlanner::frontier(const NavGrid& grid, CoverageTarget& out)
 bool CoveragePlanner::frontierNear(const Pose& pose, double radius) const
 {
   const int reach = static_cast<int>(std::ceil(radius / resolution_));
-  const int cx = static_cast<int>(std::floor((pose.x - origin_x_) / resolution_));
-  const int cy = static_cast<int>(std::floor((pose.y - origin_y_) / resolution_));
+  int cx = 0, cy = 0;
+  if (!cellOf(pose.x, pose.y, cx, cy))
+  {
+    return false;
+  }
   for (int iy = cy - reach; iy <= cy + reach; ++iy)
   {
     for (int ix = cx - reach; ix <= cx + reach; ++ix)

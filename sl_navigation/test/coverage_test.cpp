@@ -291,6 +291,16 @@ TEST(CoveragePlanner, DoesNotCountUnreachablePockets)
   EXPECT_EQ(targets.back().mode, CoverageMode::DONE);
   EXPECT_GE(cov.progress(planner.floor()), 0.99);
   EXPECT_FALSE(cov.covered(grid.indexX(2.45), grid.indexY(1.05)));
+  Pose far;
+  far.x = 1e9;
+  planner.update(grid, cov, far, 2.0);  // outside the map: no floor
+  EXPECT_EQ(cov.progress(planner.floor()), 0.0);
+  EXPECT_EQ(planner.next(grid, cov, far, 2.0).mode, CoverageMode::DONE);
+  planner.failed(NavGoal{ 1e12, -1e12, 0.0, false });  // ignored
+  GridParams small;
+  small.size = 2.0;
+  const NavGrid other(small);
+  EXPECT_THROW(planner.update(other, cov, pose, 2.0), std::invalid_argument);
 }
 
 TEST(CoverageRunner, StopsForABadPoseAndDrivesOnWithAGoodOne)
@@ -325,8 +335,8 @@ TEST(CoverageRunner, StopsForABadPoseAndDrivesOnWithAGoodOne)
     moved += std::hypot(pose.x - before.x, pose.y - before.y);
   }
   std::printf("20 s in a 3 x 2 m room: %.2f m driven, progress %.3f\n", moved, runner.progress());
-  EXPECT_GT(moved, 2.4);                // measured 3.95 m
-  EXPECT_GT(runner.progress(), 0.2);    // measured 0.359
+  EXPECT_GT(moved, 2.4);              // measured 3.95 m
+  EXPECT_GT(runner.progress(), 0.2);  // measured 0.359
 }
 
 // Cover against bump and turn in three furnished rooms, 10 simulated minutes from the same start

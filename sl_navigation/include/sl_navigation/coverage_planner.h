@@ -91,7 +91,9 @@ public:
   /// @throws std::invalid_argument for bad parameters.
   CoveragePlanner(const CoverageParams& params, int width);
 
-  /// Computes the reachable floor and the gains from @p grid at @p now, @p coverage and @p pose.
+  /// Computes the reachable floor and the gains from @p grid at @p now, @p coverage and @p pose. A pose
+  /// that is not finite or lies outside the map gives an empty floor.
+  /// @throws std::invalid_argument when the grid or the coverage has another width than the planner.
   void update(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now);
   /// update() and then the next target.
   CoverageTarget next(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now);
@@ -111,7 +113,9 @@ private:
   /// True when an unknown cell lies nearer than the centre clearance to cell (ix, iy).
   bool nearUnknown(int ix, int iy) const;
   bool centre(int ix, int iy) const { return inside(ix, iy) && floor_[index(ix, iy)] == FloorCell::Centre; }
-  bool seed(const NavGrid& grid, const Pose& pose, int& sx, int& sy) const;
+  /// The cell of (x, y) (may lie outside the map); false for NaN or beyond a million cells.
+  bool cellOf(double x, double y, int& ix, int& iy) const;
+  bool seed(const Pose& pose, int& sx, int& sy) const;
   void flood(int sx, int sy);
   void sweepFloor();
   void gains(const CoverageGrid& coverage);

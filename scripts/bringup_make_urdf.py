@@ -12,7 +12,8 @@ the projector pose live (Debian has no xacro, so this replaces it):
 and the body's radius from urdf/create.yaml (robot_radius, m), the one place it is written.
 The launch files run it as
   <param name="robot_description" command="/usr/bin/python3 $(dirname)/../scripts/bringup_make_urdf.py $(arg calibration_file)"/>
-An invalid rig or body file stops it with exit status 1 and a message naming the file and the key.
+An invalid rig or body file stops it with exit status 1 and a message naming the file and the key;
+so does a key of the rig file that the rig reader (sl_rig) does not know.
 """
 
 import argparse
@@ -35,6 +36,62 @@ LINKS = ("base_link", "platform_edge")  # frames of the template the mount may b
 
 class RigError(Exception):
     """A missing or invalid key of the rig file."""
+
+
+# The keys the rig reader (sl_rig/src/rig_io.cpp, parseRoot) allows in each mapping, by its path: a
+# key outside them is refused, so that a misspelt optional key does not leave a default in place.
+RIG_KEYS = {
+    "": ("format_version", "camera", "projector", "projector_pose", "pattern", "mount", "depth_tables"),
+    "camera": ("width", "height", "K", "D"),
+    "projector": ("width", "height", "K", "D"),
+    "projector_pose": ("rotation", "translation"),
+    "pattern": ("rows", "cols", "primitive_width", "primitive_height", "gap_x", "gap_y", "offset_x", "offset_y",
+                "flip_x", "flip_y"),
+    "mount": ("parent_frame", "xyz", "rpy"),
+    "depth_tables": ("distances", "linear", "rational"),
+    "depth_tables.linear": ("a", "b", "rms"),
+    "depth_tables.rational": ("a", "b", "c", "rms"),
+}
+
+
+def edit_distance(a, b):
+    """Optimal string alignment distance: Levenshtein plus the swap of two neighbours."""
+    d = [[i + j if i * j == 0 else 0 for j in range(len(b) + 1)] for i in range(len(a) + 1)]
+    for i in range(1, len(a) + 1):
+        for j in range(1, len(b) + 1):
+            d[i][j] = min(d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1]))
+            if i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
+                d[i][j] = min(d[i][j], d[i - 2][j - 2] + 1)
+    return d[len(a)][len(b)]
+
+
+def nearest_key(key, allowed):
+    """The one allowed key within a typo or two of `key` (as sl_rig::nearestKey), or None."""
+    limit = max(1, len(key) // 3)
+    distances = sorted((edit_distance(key, a), a) for a in allowed)
+    best = [a for d, a in distances if d == distances[0][0]]
+    return best[0] if distances[0][0] <= limit and len(best) == 1 else None
+
+
+def check_keys(rig):
+    """Refuses a key that the rig reader does not know, at every level, naming it."""
+    for path in sorted(RIG_KEYS):
+        node = rig
+        for part in path.split(".") if path else ():
+            node = node.get(part) if isinstance(node, dict) else None
+        if node is None:
+            continue  # absent: a required one is reported where it is read
+        if not isinstance(node, dict):
+            raise RigError("%s: must be a mapping" % (path or "<top level>"))
+        prefix = path + "." if path else ""
+        for key in node:
+            if not isinstance(key, str):
+                raise RigError("%s%r: a key must be a name" % (prefix, key))
+            if key in RIG_KEYS[path]:
+                continue
+            hint = nearest_key(key, RIG_KEYS[path])
+            raise RigError("%s%s: unknown key%s (allowed: %s)" % (prefix, key, ", did you mean '%s'?" % hint
+                                                                   if hint else "", ", ".join(sorted(RIG_KEYS[path]))))
 
 
 def numbers(node, key, count):
@@ -96,6 +153,7 @@ def placeholders(rig, rig_file, radius):
     """Every value the template needs, from the parsed rig file and the body's radius (m)."""
     if not isinstance(rig, dict):
         raise RigError("not a YAML mapping")
+    check_keys(rig)
     mount = rig.get("mount")
     if not isinstance(mount, dict):
         raise RigError("mount: missing (pose of camera_link in platform_edge)")
@@ -150,7 +208,7 @@ def main(argv):
     try:
         with open(args.rig_file) as f:
             rig = yaml.safe_load(f)
-    except (OSError, yaml.YAMLError) as e:
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
         sys.stderr.write("bringup_make_urdf: %s: %s\n" % (args.rig_file, e))
         return 1
     try:
@@ -162,7 +220,7 @@ def main(argv):
     try:
         with open(args.body) as f:
             radius = robot_radius(yaml.safe_load(f))
-    except (OSError, yaml.YAMLError) as e:
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
         sys.stderr.write("bringup_make_urdf: %s: %s\n" % (args.body, e))
         return 1
     except RigError as e:

@@ -1,6 +1,6 @@
 // sl_bringup_test: the robot description generated from a rig file (scripts/bringup_make_urdf.py,
 // urdf/create.urdf.in) is a valid URDF whose camera mount and projector pose are exactly the rig
-// file's, and invalid rig files are refused with the key named. No ROS master needed.
+// file's, and invalid rig files (unknown keys too) are refused with the key named. No ROS master needed.
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -173,6 +173,17 @@ TEST(RobotModel, InvalidRigFilesAreRefusedNamingTheKey)
       "mount.xyz: expected a list of 3 numbers" },
     { "format_version: 1\nmount: {xyz: [0, 0, .nan], rpy: [0, 0, 0]}\n", "mount.xyz" },
     { "mount: [unclosed\n", "bringup_make_urdf" },
+    // Keys the rig reader (sl_rig) does not know, at each level, as it refuses them.
+    { rigText("platform_edge", { 0, 0, 0.1 }, { 0, 0, 0 }, identity, { 0.05, 0, 0 }) + "mount_offset: 0.1\n",
+      "mount_offset: unknown key (allowed: camera, depth_tables, format_version, mount, "
+      "pattern, projector, projector_pose)" },
+    { "format_version: 1\nmount: {xyz: [0, 0, 0.1], rpy: [0, 0, 0], parnet_frame: base_link}\n",
+      "mount.parnet_frame: unknown key, did you mean 'parent_frame'?" },
+    { "format_version: 1\npattern: {rosw: 3}\n", "pattern.rosw: unknown key, did you mean 'rows'?" },
+    { "format_version: 1\ncamera: {width: 752, skew: 0}\n", "camera.skew: unknown key (allowed: D, K, height, width)" },
+    { "format_version: 1\ndepth_tables: {rational: {a: [], b: [], d: [], rms: []}}\n",
+      "depth_tables.rational.d: unknown key (allowed: a, b, c, rms)" },  // a, b and c tie: no hint
+    { "format_version: 1\nprojector_pose: [1, 2]\n", "projector_pose: must be a mapping" },
   };
   int k = 0;
   for (const Case& c : cases)

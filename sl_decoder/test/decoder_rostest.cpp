@@ -15,6 +15,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <sl_testing/process.h>
 #include <sl_testing/rostest_main.h>
 
 TEST(DecoderNodelet, WallArrivesInPlatformEdge)
@@ -150,6 +151,30 @@ TEST(DecoderNodelet, MissingTransformPublishesNothing)
   EXPECT_GT(diag("valid points"), 600.0) << "the decoder without a transform found no wall";
   EXPECT_GE(diag("tf failures"), frames - 1.0) << "frames decoded but no failed look-up counted";
   EXPECT_GT(diag("tf failures"), 0.0);
+}
+
+TEST(DecoderNode, BadParameterExitsNamingIt)
+{
+  struct Case
+  {
+    std::string args, expected;
+  };
+  const std::string rig = " _calibration_file:=$(rospack find sl_projector)/config/default_rig.yaml";
+  const std::vector<Case> cases = {
+    { "_calibration_file:=/no/such_rig.yaml", "~calibration_file: /no/such_rig.yaml: cannot open" },
+    { "_tf_timeout:=9" + rig, "~tf_timeout must be in [0, 5] s" },
+    { "_queue_size:=many" + rig, "~queue_size must be an integer" },
+  };
+  int k = 0;
+  for (const Case& c : cases)
+  {
+    std::string out;
+    const int status = sl_testing::run(
+        "timeout 90 rosrun sl_decoder decoder_node __name:=bad_decoder" + std::to_string(k++) + " " + c.args, out);
+    EXPECT_NE(status, 0) << c.args << "\n" << out;
+    EXPECT_NE(status, 124) << "the node did not exit: " << c.args << "\n" << out;
+    EXPECT_NE(out.find(c.expected), std::string::npos) << c.args << "\n" << out;
+  }
 }
 
 int main(int argc, char** argv)

@@ -24,6 +24,25 @@ constexpr double kEscapeReach = 0.6;        // m searched for the obstacle to tu
 constexpr double kEscapeDistance = 0.15;    // m crept away
 constexpr double kEscapeSpeed = 0.05;       // m/s
 
+/// Cell offsets whose distance (m, between cell centres) lies in [lo, hi].
+std::vector<std::pair<int, int>> cellsWithin(double lo, double hi, double resolution)
+{
+  std::vector<std::pair<int, int>> out;
+  const int reach = static_cast<int>(std::ceil(hi / resolution));
+  for (int dy = -reach; dy <= reach; ++dy)
+  {
+    for (int dx = -reach; dx <= reach; ++dx)
+    {
+      const double d = std::hypot(dx, dy) * resolution;
+      if (d >= lo && d <= hi)
+      {
+        out.emplace_back(dx, dy);
+      }
+    }
+  }
+  return out;
+}
+
 void require(bool ok, const char* name, const std::string& what)
 {
   if (!ok)
@@ -91,10 +110,26 @@ CoveragePlanner::CoveragePlanner(const CoverageParams& params, int width)
   queue_.reserve(cells);
 }
 
-bool CoveragePlanner::seed(const NavGrid& grid, const Pose& pose, int& sx, int& sy) const
+bool CoveragePlanner::cellOf(double x, double y, int& ix, int& iy) const
 {
-  const int cx = grid.indexX(pose.x);
-  const int cy = grid.indexY(pose.y);
+  const double fx = std::floor((x - origin_x_) / resolution_);
+  const double fy = std::floor((y - origin_y_) / resolution_);
+  if (!(std::abs(fx) < 1e6 && std::abs(fy) < 1e6))  // NaN and far outside the map
+  {
+    return false;
+  }
+  ix = static_cast<int>(fx);
+  iy = static_cast<int>(fy);
+  return true;
+}
+
+bool CoveragePlanner::seed(const Pose& pose, int& sx, int& sy) const
+{
+  int cx = 0, cy = 0;
+  if (!cellOf(pose.x, pose.y, cx, cy))
+  {
+    return false;
+  }
   const int reach = static_cast<int>(std::ceil(kSeedRadius / resolution_));
   double best = std::numeric_limits<double>::infinity();
   for (int dy = -reach; dy <= reach; ++dy)
@@ -181,7 +216,7 @@ void CoveragePlanner::gains(const CoverageGrid& coverage)
     const int ix = static_cast<int>(i % n_);
     const int iy = static_cast<int>(i / n_);
     int g = 0;
-    for (const auto& o : inner_)
+    for (const auto& o : ring_[i] ? disc_ : inner_)  // edge passes are for the rim along obstacles
     {
       const int x = ix + o.first;
       const int y = iy + o.second;
@@ -193,41 +228,24 @@ void CoveragePlanner::gains(const CoverageGrid& coverage)
 
 void CoveragePlanner::update(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now)
 {
+  if (grid.width() != n_ || coverage.width() != n_)
+  {
+    throw std::invalid_argument("CoveragePlanner: a map of " + std::to_string(grid.width()) + " and a coverage of " +
+                                std::to_string(coverage.width()) + " cells per side, the planner was made for " +
+                                std::to_string(n_));
+  }
   resolution_ = grid.params().resolution;
   origin_x_ = grid.originX();
   origin_y_ = grid.originY();
   centre_clearance_ = params_.centreClearance(resolution_);
-  if (near_.empty())
+  if (offsets_resolution_ != resolution_)
   {
-    const int reach = static_cast<int>(std::ceil(centre_clearance_ / resolution_));
-    for (int dy = -reach; dy <= reach; ++dy)
-    {
-      for (int dx = -reach; dx <= reach; ++dx)
-      {
-        if (std::hypot(dx, dy) * resolution_ < centre_clearance_)
-        {
-          near_.emplace_back(dx, dy);
-        }
-      }
-    }
-  }
-  if (disc_.empty())
-  {
-    const int reach = static_cast<int>(std::ceil(params_.planner.robot_radius / resolution_));
-    for (int dy = -reach; dy <= reach; ++dy)
-    {
-      for (int dx = -reach; dx <= reach; ++dx)
-      {
-        if (std::hypot(dx, dy) * resolution_ <= params_.planner.robot_radius)
-        {
-          disc_.emplace_back(dx, dy);
-        }
-        if (std::hypot(dx, dy) * resolution_ <= params_.planner.robot_radius - kTrackMargin)
-        {
-          inner_.emplace_back(dx, dy);
-        }
-      }
-    }
+    const double r = params_.planner.robot_radius;
+    near_ = cellsWithin(0.0, centre_clearance_ - 1e-9, resolution_);
+    disc_ = cellsWithin(0.0, r, resolution_);
+    inner_ = cellsWithin(0.0, r - kTrackMargin, resolution_);
+    view_ = cellsWithin(params_.view_min, params_.view_max, resolution_);
+    offsets_resolution_ = resolution_;
   }
   planner_.update(grid, now);
   grid.snapshot(now, cells_);
@@ -242,7 +260,7 @@ void CoveragePlanner::update(const NavGrid& grid, const CoverageGrid& coverage, 
   }
   int sx = 0;
   int sy = 0;
-  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !seed(grid, pose, sx, sy))
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !seed(pose, sx, sy))
   {
     std::fill(floor_.begin(), floor_.end(), FloorCell::None);
     std::fill(gain_.begin(), gain_.end(), 0);
@@ -285,8 +303,11 @@ void CoveragePlanner::offered(std::size_t i)
 void CoveragePlanner::markAround(std::vector<std::uint8_t>& mask, double x, double y, double radius)
 {
   const int reach = static_cast<int>(std::ceil(radius / resolution_));
-  const int cx = static_cast<int>(std::floor((x - origin_x_) / resolution_));
-  const int cy = static_cast<int>(std::floor((y - origin_y_) / resolution_));
+  int cx = 0, cy = 0;
+  if (!cellOf(x, y, cx, cy))
+  {
+    return;
+  }
   for (int dy = -reach; dy <= reach; ++dy)
   {
     for (int dx = -reach; dx <= reach; ++dx)
@@ -320,11 +341,17 @@ void CoveragePlanner::emit(const NavGrid& grid, const std::vector<std::size_t>& 
       const int ddy = static_cast<int>(cells[k] / n_) - static_cast<int>(cells[k - 1] / n_);
       along += std::hypot(ddx, ddy) * resolution_;
     }
-    if (along - last >= spacing - 1e-9 || k + 1 == cells.size())
+    // Intermediate goals only near obstacles, where the planner's clearance cost would bend a long
+    // straight path away from the lane; in open space the path is straight anyway, and each goal
+    // costs a stop.
+    const int ix = static_cast<int>(cells[k] % n_);
+    const int iy = static_cast<int>(cells[k] / n_);
+    const bool open = planner_.clearance(ix, iy) >= params_.planner.inflation_radius - 1e-6;
+    if ((along - last >= spacing - 1e-9 && !open) || k == 0 || k + 1 == cells.size())
     {
       NavGoal g;
-      g.x = grid.centerX(static_cast<int>(cells[k] % n_));
-      g.y = grid.centerY(static_cast<int>(cells[k] / n_));
+      g.x = grid.centerX(ix);
+      g.y = grid.centerY(iy);
       out.goals.push_back(g);
       last = along;
     }
@@ -464,7 +491,7 @@ bool CoveragePlanner::edge(const NavGrid& grid, CoverageTarget& out)
       out.mode = CoverageMode::EDGE;
       out.gain = static_cast<int>(sum / diameter);
       out.speed_limit = params_.edge_speed;
-      emit(grid, path, 0.6 * params_.waypoint_spacing, out);
+      emit(grid, path, 0.3 * params_.waypoint_spacing, out);  // close: pure pursuit cuts corners
       return true;
     }
     skipped.insert(skipped.end(), path.begin(), path.end());
@@ -522,19 +549,7 @@ void CoveragePlanner::unknownNormal(int ix, int iy, int& nx, int& ny) const
 
 bool CoveragePlanner::frontier(const NavGrid& grid, CoverageTarget& out)
 {
-  const int reach = static_cast<int>(std::ceil(params_.view_max / resolution_));
-  std::vector<std::pair<int, int>> ring;
-  for (int dy = -reach; dy <= reach; ++dy)
-  {
-    for (int dx = -reach; dx <= reach; ++dx)
-    {
-      const double d = std::hypot(dx, dy) * resolution_;
-      if (d >= params_.view_min && d <= params_.view_max)
-      {
-        ring.emplace_back(dx, dy);
-      }
-    }
-  }
+  const auto& ring = view_;
   std::int32_t best = std::numeric_limits<std::int32_t>::max();
   int fx = 0, fy = 0, vx = 0, vy = 0;
   for (int iy = 0; iy < n_; ++iy)
@@ -585,8 +600,11 @@ bool CoveragePlanner::frontier(const NavGrid& grid, CoverageTarget& out)
 bool CoveragePlanner::frontierNear(const Pose& pose, double radius) const
 {
   const int reach = static_cast<int>(std::ceil(radius / resolution_));
-  const int cx = static_cast<int>(std::floor((pose.x - origin_x_) / resolution_));
-  const int cy = static_cast<int>(std::floor((pose.y - origin_y_) / resolution_));
+  int cx = 0, cy = 0;
+  if (!cellOf(pose.x, pose.y, cx, cy))
+  {
+    return false;
+  }
   for (int iy = cy - reach; iy <= cy + reach; ++iy)
   {
     for (int ix = cx - reach; ix <= cx + reach; ++ix)
@@ -811,8 +829,10 @@ bool CoverageRunner::escape(const Pose& pose, double now)
 
 const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt)
 {
-  if (!nav_.hasMap())
+  if (!nav_.hasMap() || !std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.yaw))
   {
+    coverage_.addPose(pose);  // a bad pose breaks the coverage's segment
+    escape_phase_ = 0;
     out_ = nav_.step(pose, now);
     return out_;
   }

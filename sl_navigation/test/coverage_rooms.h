@@ -220,7 +220,7 @@ inline bool record(const World& world, const Pose& before, const Pose& pose, Cle
 }
 
 /// Navigator parameters for cleaning: obstacles kept for 600 s, arrival within 5 cm, headings of
-/// frontier goals (yaw_tolerance).
+/// frontier goals (yaw_tolerance), turning in place above 0.55 rad of heading error.
 inline NavigatorParams cleaningNavigator()
 {
   NavigatorParams p;
@@ -228,6 +228,7 @@ inline NavigatorParams cleaningNavigator()
   p.grid.occupied_persistence = 600.0;  // a table leg seen once is not forgotten while cleaning around it
   p.follower.goal_tolerance = 0.05;
   p.follower.yaw_tolerance = 0.3;
+  p.follower.rotate_threshold = 0.55;  // turn in place first: a wide arc swings the disc into furniture
   return p;
 }
 

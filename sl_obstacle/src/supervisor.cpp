@@ -53,7 +53,7 @@ void Supervisor::setSettings(const Settings& settings, bool new_map)
   settings_ = settings;
 }
 
-Actions Supervisor::onPoints(const std::vector<Point>& points, const CloudHandle& cloud, double stamp, double now)
+void Supervisor::onPoints(const std::vector<Point>& points, const CloudHandle& cloud, double stamp)
 {
   if (have_frame_ && stamp - cloud_stamp_ > settings_.decision.stale_timeout)
   {
@@ -75,9 +75,6 @@ Actions Supervisor::onPoints(const std::vector<Point>& points, const CloudHandle
     obstacles_stamp_ = stamp;
     obstacles_pending_ = true;
   }
-  Actions a;
-  decide(now, false, a);
-  return a;
 }
 
 std::optional<RayInsert> Supervisor::pairPoints(const CloudHandle& points, double stamp)
@@ -101,15 +98,12 @@ std::vector<RayInsert> Supervisor::pairRays(const CloudHandle& rays, double stam
   return out;
 }
 
-Actions Supervisor::addRays(const std::vector<MapRay>& rays, double stamp, double now)
+void Supervisor::addRays(const std::vector<MapRay>& rays, double stamp)
 {
-  Actions a;
   if (world_)
   {
     world_->addRays(rays, stamp);
-    decide(now, true, a);  // the plan on the updated map (the stop check on the cloud came first)
   }
-  return a;
 }
 
 Actions Supervisor::onCommand(const Velocity& command, double stamp, double now)
@@ -166,10 +160,10 @@ bool Supervisor::onBumpers(bool left, bool right, double now)
   return mark;
 }
 
-Actions Supervisor::step(double now)
+Actions Supervisor::step(double now, bool map_updated)
 {
   Actions a;
-  decide(now, false, a);
+  decide(now, map_updated, a);
   return a;
 }
 

@@ -70,6 +70,13 @@ bool hasEvent(const Actions& a, Event::Kind kind)
   return false;
 }
 
+/// A cloud captured at @p stamp (handle @p id), checked and decided on at @p now.
+Actions checkCloud(Supervisor& sup, const std::vector<Point>& points, int id, double stamp, double now)
+{
+  sup.onPoints(points, id, stamp);
+  return sup.step(now);
+}
+
 /// Clouds of a wall at @p x (m ahead of the front edge), one every 0.1 s from @p now on; @return the
 /// outputs and events of all, the status of the last.
 Actions wall(Supervisor& sup, double x, double& now, int frames = 3)
@@ -79,7 +86,7 @@ Actions wall(Supervisor& sup, double x, double& now, int frames = 3)
   for (int i = 0; i < frames; ++i)
   {
     now += 0.1;
-    const Actions a = sup.onPoints(cloud, 0, now, now + 0.01);
+    const Actions a = checkCloud(sup, cloud, 0, now, now + 0.01);
     all.outputs.insert(all.outputs.end(), a.outputs.begin(), a.outputs.end());
     all.events.insert(all.events.end(), a.events.begin(), a.events.end());
     all.status = a.status;
@@ -205,16 +212,16 @@ TEST(Supervisor, StaleOdometryStopsMapDecisions)
   Supervisor sup(Settings(), CommandMode::ACTION, source);
   double now = 100.0;
   source.robot_stamp = now;
-  sup.onPoints({}, 0, now, now);
+  checkCloud(sup, {}, 0, now, now);
   EXPECT_TRUE(sup.localized());
-  sup.onPoints({}, 0, now + 0.6, now + 0.6);
+  checkCloud(sup, {}, 0, now + 0.6, now + 0.6);
   EXPECT_FALSE(sup.localized()) << "odometry older than stale_timeout";
   EXPECT_EQ(sup.decisions().last().reason, Reason::NO_ODOMETRY) << sup.decisions().last().text;
   EXPECT_NE(sup.decisions().last().text.find("older than stale_timeout"), std::string::npos)
       << sup.decisions().last().text;
   source.odometry = false;
   source.robot_stamp = now + 0.7;
-  sup.onPoints({}, 0, now + 0.7, now + 0.7);
+  checkCloud(sup, {}, 0, now + 0.7, now + 0.7);
   EXPECT_NE(sup.decisions().last().text.find("no transform"), std::string::npos) << sup.decisions().last().text;
 }
 
@@ -225,8 +232,9 @@ void driveOnMap(Supervisor& sup, FakeSource& source, double& now)
   {
     now += 0.1;
     source.robot_stamp = now;
-    sup.onPoints({}, i, now, now);
-    sup.addRays(freeCorridor(), now, now);
+    checkCloud(sup, {}, i, now, now);
+    sup.addRays(freeCorridor(), now);
+    sup.step(now, true);
   }
 }
 
@@ -292,7 +300,7 @@ TEST(Supervisor, CloudObstaclesReachTheFilterThroughTheVolumePoseAtTheirStamp)
   double now = 100.0;
   source.robot_stamp = now;
   source.volume_known = false;
-  sup.onPoints(test::render(test::Scene().wall(0.3)), 42, now, now);
+  checkCloud(sup, test::render(test::Scene().wall(0.3)), 42, now, now);
   EXPECT_EQ(source.volume_asked, std::vector<int>({ 42 })) << "the filter runs on each cloud";
   const Actions early = sup.onCommand(Velocity{ 0.1, 0.0 }, now + 0.1, now + 0.1);
   EXPECT_EQ(source.volume_asked, std::vector<int>({ 42, 42 }));
@@ -305,7 +313,7 @@ TEST(Supervisor, CloudObstaclesReachTheFilterThroughTheVolumePoseAtTheirStamp)
 
   // A cloud whose pose never comes: after stale_timeout the filter uses the map only.
   source.volume_known = false;
-  sup.onPoints(test::render(test::Scene().wall(0.3)), 43, now + 0.4, now + 0.4);
+  checkCloud(sup, test::render(test::Scene().wall(0.3)), 43, now + 0.4, now + 0.4);
   source.robot_stamp = now + 0.8;
   EXPECT_FALSE(hasEvent(sup.onCommand(Velocity{ 0.1, 0.0 }, now + 0.8, now + 0.8), Event::Kind::OBSTACLES_DROPPED));
   source.robot_stamp = now + 1.0;
@@ -355,13 +363,13 @@ TEST(Supervisor, UnmatchedCloudsArePairedWithNothing)
   EXPECT_FALSE(sup.pairPoints(4, 10.25));
 }
 
-TEST(Supervisor, NewRaysAreDecidedOnAtOnce)
+TEST(Supervisor, DecisionsUseTheMapTheRaysBuild)
 {
   FakeSource source;
   Supervisor sup(Settings(), CommandMode::ACTION, source);
   double now = 100.0;
   source.robot_stamp = now;
-  sup.onPoints({}, 0, now, now);
+  checkCloud(sup, {}, 0, now, now);
   EXPECT_NE(sup.decisions().last().command, Command::DRIVE) << "nothing known ahead";
   double t = now;
   driveOnMap(sup, source, t);

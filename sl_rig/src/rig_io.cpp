@@ -339,36 +339,13 @@ Rig parseRoot(const YAML::Node& root, const std::string& source)
 
 Rig parseRig(const std::string& text, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw RigFileError(source + ": not valid YAML: " + e.what());
-  }
-  if (!root || !root.IsMap())
-    throw RigFileError(source + ": <top level>: must be a mapping (is the file empty?)");
-  try
-  {
-    return parseRoot(root, source);
-  }
-  catch (const YAML::Exception& e)
-  {
-    // Backstop: the checks above should name the key; a yaml-cpp error still names the file.
-    throw RigFileError(source + ": " + e.what());
-  }
+  return sl_rig::parseMappingFile<RigFileError>(text, source, "",
+                                                [&](const YAML::Node& root) { return parseRoot(root, source); });
 }
 
 Rig loadRig(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw RigFileError(path + ": cannot open the calibration file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parseRig(buffer.str(), path);
+  return parseRig(sl_rig::readFileText<RigFileError>(path, "calibration file"), path);
 }
 
 namespace

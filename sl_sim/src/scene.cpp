@@ -2,9 +2,7 @@
 #include "sl_sim/scene.h"
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -416,36 +414,13 @@ Scene parseRoot(const YAML::Node& root, const std::string& source)
 
 Scene parseScene(const std::string& text, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw SceneFileError(source + ": not valid YAML: " + e.what());
-  }
-  if (!root || !root.IsMap())
-    throw SceneFileError(source + ": <top level>: must be a mapping with 'objects' (is the file empty?)");
-  try
-  {
-    return parseRoot(root, source);
-  }
-  catch (const YAML::Exception& e)
-  {
-    // Backstop: every check names its key; a yaml-cpp error that slips through still names the file.
-    throw SceneFileError(source + ": " + e.what());
-  }
+  return sl_rig::parseMappingFile<SceneFileError>(text, source, " with 'objects'",
+                                                  [&](const YAML::Node& root) { return parseRoot(root, source); });
 }
 
 Scene loadScene(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw SceneFileError(path + ": cannot open the scene file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parseScene(buffer.str(), path);
+  return parseScene(sl_rig::readFileText<SceneFileError>(path, "scene file"), path);
 }
 
 std::vector<Eigen::Vector3d> checkerboardInnerCorners(const SceneObject& o)

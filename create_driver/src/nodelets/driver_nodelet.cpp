@@ -1,5 +1,6 @@
 // create_driver/driver: the ROS face of DriverSupervisor + SerialLink. Parameters: driver_params.cpp;
 // messages: driver_conversions.cpp; diagnostics: driver_diagnostics.cpp.
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -52,8 +53,17 @@ private:
   {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    params_ = readDriverParams(pnh);
-    sup_ = std::make_unique<DriverSupervisor>(params_.config);
+    try
+    {
+      params_ = readDriverParams(pnh);
+      sup_ = std::make_unique<DriverSupervisor>(params_.config);
+    }
+    catch (const std::exception& e)
+    {
+      // nodelet::Loader drops what onInit throws without a word: say it here.
+      NODELET_FATAL("invalid parameter: %s", e.what());
+      throw;
+    }
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
     hazards_pub_ = nh.advertise<sl_msgs::Hazards>("hazards", 10, true);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -53,9 +54,18 @@ private:
   {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    params_ = readSimParams(pnh);
-    sup_ = std::make_unique<SimSupervisor>(params_.config, steadyNow());
-    openPty();  // throws naming ~link if the link cannot be made
+    try
+    {
+      params_ = readSimParams(pnh);
+      sup_ = std::make_unique<SimSupervisor>(params_.config, steadyNow());
+      openPty();  // throws naming ~link if the link cannot be made
+    }
+    catch (const std::exception& e)
+    {
+      // nodelet::Loader drops what onInit throws without a word: say it here.
+      NODELET_FATAL("%s", e.what());
+      throw;
+    }
     advertise(nh, pnh);
     running_ = true;
     thread_ = std::thread([this] { loop(); });

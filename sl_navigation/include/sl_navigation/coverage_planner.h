@@ -24,7 +24,7 @@ struct CoverageParams
   double edge_speed = 0.1;        ///< m/s, the most an edge pass drives (edge_speed)
   double edge_length = 3.0;       ///< m of wall contour per edge pass
   bool edges_first = false;       ///< offer edge passes before lanes (edges_first)
-  double waypoint_spacing = 0.5;  ///< m between the goals of a lane; an edge pass's are 0.6 times this
+  double waypoint_spacing = 0.5;  ///< m between the goals of a lane; an edge pass's are 0.3 times this
   int min_gain = 6;               ///< uncovered floor cells a target must sweep to be offered
   double view_min = 0.5;          ///< m, nearest a frontier is looked at from (the camera's blind ring)
   double view_max = 1.1;          ///< m, farthest a frontier is looked at from
@@ -73,7 +73,8 @@ struct CoverageTarget
  * floor; free pockets the disc cannot reach (behind a gap narrower than 2 centreClearance()) are not
  * counted. The gain of a centre cell is the number of uncovered floor cells under a disc there, less
  * its outer 0.05 m (a rim a driven disc may miss by its tracking error: lanes are not driven again
- * for a sliver).
+ * for a sliver), except on the ring of centre cells next to obstacles, whose edge passes are there
+ * for that rim.
  *
  * next() offers, nearest first by the flood fill's distance: lanes (runs of centre cells on rows
  * lane_spacing apart, trimmed to where they gain, split where they gain nothing for 0.4 m), edge
@@ -90,7 +91,9 @@ public:
   /// @throws std::invalid_argument for bad parameters.
   CoveragePlanner(const CoverageParams& params, int width);
 
-  /// Computes the reachable floor and the gains from @p grid at @p now, @p coverage and @p pose.
+  /// Computes the reachable floor and the gains from @p grid at @p now, @p coverage and @p pose. A pose
+  /// that is not finite or lies outside the map gives an empty floor.
+  /// @throws std::invalid_argument when the grid or the coverage has another width than the planner.
   void update(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now);
   /// update() and then the next target.
   CoverageTarget next(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now);
@@ -110,7 +113,9 @@ private:
   /// True when an unknown cell lies nearer than the centre clearance to cell (ix, iy).
   bool nearUnknown(int ix, int iy) const;
   bool centre(int ix, int iy) const { return inside(ix, iy) && floor_[index(ix, iy)] == FloorCell::Centre; }
-  bool seed(const NavGrid& grid, const Pose& pose, int& sx, int& sy) const;
+  /// The cell of (x, y) (may lie outside the map); false for NaN or beyond a million cells.
+  bool cellOf(double x, double y, int& ix, int& iy) const;
+  bool seed(const Pose& pose, int& sx, int& sy) const;
   void flood(int sx, int sy);
   void sweepFloor();
   void gains(const CoverageGrid& coverage);
@@ -151,6 +156,8 @@ private:
   std::vector<std::pair<int, int>> disc_;   // cell offsets within robot_radius
   std::vector<std::pair<int, int>> inner_;  // cell offsets within robot_radius - 0.05 m (what a target counts)
   std::vector<std::pair<int, int>> near_;   // cell offsets nearer than the centre clearance
+  std::vector<std::pair<int, int>> view_;   // cell offsets view_min..view_max away
+  double offsets_resolution_ = 0.0;         // the resolution the offsets were made for
   std::vector<Cell> cells_;                 // the grid's states at the last update()
   std::vector<Point> looked_around_;        // where lookAround() was offered
   bool pending_frontier_ = false;
@@ -180,7 +187,8 @@ public:
 
   /// A local occupancy window (see Navigator::onMap()).
   bool onMap(const OccupancyView& view, double stamp);
-  /// One control step from @p pose at @p now; @p dt (s) is the control period.
+  /// One control step from @p pose at @p now; @p dt (s) is the control period. Before the first
+  /// map, or for a non-finite pose, the navigator alone answers (it stops) and no target is taken.
   const NavOutput& step(const Pose& pose, double now, double dt);
 
   /// True once the planner reported DONE.

@@ -105,9 +105,10 @@ struct Actions
  * @brief Arbitrates the obstacle node: runs the volume check, the decision maker, the local map
  * (WorldModel) and the safety filter on stamped inputs and returns what to send.
  *
- * - A cloud (points in the working-volume frame) is checked at once and decided on; its ray ends
- *   go into the map after that, paired with it by stamp (CloudPairing: the caller asks
- *   pairPoints() / pairRays() which clouds to insert, converts them and gives them to addRays()).
+ * - A cloud (points in the working-volume frame) is checked (onPoints()) and decided on (step());
+ *   its ray ends go into the map after that, paired with it by stamp (CloudPairing: the caller asks
+ *   pairPoints() / pairRays() which clouds to insert, converts them and gives them to addRays(),
+ *   then decides on the new map with step(now, true)).
  * - With the map, outside commands (onCommand()) take over from autonomy for teleop_hold after each
  *   (always in CommandMode::FILTER) and pass through the safety filter, together with the newest
  *   cloud's obstacle points carried into the map frame and then into the robot's frame now.
@@ -126,17 +127,18 @@ public:
   /// cells and takes the new clearance. The safety filter takes the new parameters.
   void setSettings(const Settings& settings, bool new_map);
 
-  /// A cloud of @p points (working-volume frame) captured at @p stamp, arriving at @p now; @p cloud is
-  /// handed back to SupervisorSource::volumePose(). A gap longer than stale_timeout restarts the
-  /// noise filter's history.
-  Actions onPoints(const std::vector<Point>& points, const CloudHandle& cloud, double stamp, double now);
+  /// Checks a cloud of @p points (working-volume frame) captured at @p stamp; @p cloud is handed back
+  /// to SupervisorSource::volumePose(). A gap longer than stale_timeout restarts the noise filter's
+  /// history. Decide on it with step() right after (its time read after the check).
+  void onPoints(const std::vector<Point>& points, const CloudHandle& cloud, double stamp);
   /// After onPoints(): the waiting ray ends of this or an older image to insert now, if any.
   std::optional<RayInsert> pairPoints(const CloudHandle& points, double stamp);
   /// New ray ends captured at @p stamp: those to insert now, in order (older ray ends whose points
   /// never came go alone; these wait when their points have not come yet).
   std::vector<RayInsert> pairRays(const CloudHandle& rays, double stamp);
-  /// Inserts one image's @p rays (map frame) captured at @p stamp and decides again on the new map.
-  Actions addRays(const std::vector<MapRay>& rays, double stamp, double now);
+  /// Inserts one image's @p rays (map frame) captured at @p stamp; decide on the new map with
+  /// step(now, true) right after (no map: ignored).
+  void addRays(const std::vector<MapRay>& rays, double stamp);
 
   /// An outside command given at @p stamp (<= @p now). Takes over from autonomy (cancels its goal).
   Actions onCommand(const Velocity& command, double stamp, double now);
@@ -147,8 +149,9 @@ public:
   void onGoalFeedback(unsigned goal_id, double remaining);
   /// The bumper state at @p now. @return true when a new press was marked in the map (localized).
   bool onBumpers(bool left, bool right, double now);
-  /// A control step without new input (steady rate: keeps goals and watchdogs fed).
-  Actions step(double now);
+  /// A decision step at @p now: after a cloud, after a map update (@p map_updated: the candidate
+  /// turns are swept again) and at a steady rate (keeps goals and watchdogs fed).
+  Actions step(double now, bool map_updated = false);
 
   /// The volume check of the newest cloud.
   const VolumeResult& volumeResult() const { return checker_.result(); }

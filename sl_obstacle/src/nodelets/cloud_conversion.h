@@ -6,6 +6,8 @@
 
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
+#include <tf2_ros/buffer.h>
 #include <tf2_ros/message_filter.h>
 
 #include "sl_msgs/ray_ends.h"
@@ -21,6 +23,11 @@ namespace sl_obstacle
 /// @return empty on success, otherwise a description of what is wrong with the cloud.
 std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform,
                          std::vector<Point>& points);
+
+/// The transform of @p header's frame into @p target at its stamp from @p tf; false with @p error
+/// when tf does not know it.
+bool transformAt(const tf2_ros::Buffer& tf, const std::string& target, const std_msgs::Header& header,
+                 geometry_msgs::Transform& transform, std::string& error);
 
 /// Why a tf2 message filter dropped a cloud, e.g. "older than the tf buffer".
 const char* toString(tf2_ros::FilterFailureReason reason);

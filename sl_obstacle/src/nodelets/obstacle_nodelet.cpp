@@ -1,10 +1,8 @@
 // The sl_obstacle/obstacle nodelet: ROS adapter of the Supervisor (sl_obstacle_core), which decides.
-//
-// Subscribes `points` (through a tf2 message filter into ~target_frame) and, with ~use_map,
-// `ray_ends` (through a filter into ~odom_frame), `hazards` and `cmd_vel_in` (`cmd_vel_in_stamped`);
-// converts them and hands them to the supervisor with their stamps. RobotLink sends what it returns
-// (`cmd_vel`, goals on the driver's `drive_distance` action, `obstacle_status`). Publishes `markers`
-// and `local_map` while subscribed. All callbacks share one mutex; nothing blocks in onInit.
+// Subscribes `points` (through a tf2 message filter into ~target_frame) and, with ~use_map, `ray_ends`
+// (into ~odom_frame), `hazards` and `cmd_vel_in` (`_stamped`), and hands them to the supervisor with
+// their stamps; RobotLink sends what it returns, Display shows `markers` and `local_map`. All
+// callbacks share one mutex; nothing blocks in onInit.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -36,7 +34,15 @@ namespace sl_obstacle
 class ObstacleNodelet : public nodelet::Nodelet
 {
 public:
-  ~ObstacleNodelet() override;
+  ~ObstacleNodelet() override
+  {
+    // Stop callbacks before the members they use go away.
+    timer_.stop();
+    cloud_sub_.reset();
+    tf_filter_.reset();
+    rays_sub_.reset();
+    rays_filter_.reset();
+  }
 
 private:
   using Cloud = sensor_msgs::PointCloud2;
@@ -52,9 +58,6 @@ private:
   void insertRays(const RayInsert& insert);
   void onHazards(const sl_msgs::Hazards& msg);
   void onCommand(const geometry_msgs::Twist& twist, const ros::Time& stamp);
-  /// @p header's frame in @p target at its stamp; false with @p error when unknown.
-  bool transformAt(const std::string& target, const std_msgs::Header& header, geometry_msgs::Transform& transform,
-                   std::string& error);
   void onGoalResult(unsigned id, GoalEnd end, const std::string& what);
   void onTimer(const ros::TimerEvent& event);
   /// Sends what the supervisor returned (RobotLink). Caller holds mutex_.
@@ -81,16 +84,6 @@ private:
   boost::recursive_mutex reconfigure_mutex_;
   bool reconfigure_ready_ = false;
 };
-
-ObstacleNodelet::~ObstacleNodelet()
-{
-  // Stop callbacks before the members they use go away.
-  timer_.stop();
-  cloud_sub_.reset();
-  tf_filter_.reset();
-  rays_sub_.reset();
-  rays_filter_.reset();
-}
 
 void ObstacleNodelet::onInit()
 {
@@ -207,7 +200,8 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
   geometry_msgs::Transform transform;
   transform.rotation.w = 1.0;
   std::string e;
-  if (cloud->header.frame_id != params_.target_frame && !transformAt(params_.target_frame, cloud->header, transform, e))
+  if (cloud->header.frame_id != params_.target_frame &&
+      !transformAt(*tf_buffer_, params_.target_frame, cloud->header, transform, e))
   {
     NODELET_WARN_THROTTLE(2.0, "dropping cloud: %s", e.c_str());
     return;
@@ -218,8 +212,9 @@ void ObstacleNodelet::processCloud(const Cloud::ConstPtr& cloud)
     return;
   }
   cloud_stamp_ = cloud->header.stamp;
+  sup_->onPoints(points_, cloud, cloud_stamp_.toSec());
   const ros::Time now = ros::Time::now();
-  carryOut(sup_->onPoints(points_, cloud, cloud_stamp_.toSec(), now.toSec()), now);
+  carryOut(sup_->step(now.toSec()), now);
   if (sup_->volumeResult().invalid_points > 0)
     NODELET_WARN_THROTTLE(10.0, "cloud has %u points with NaN/inf coordinates (ignored)",
                           sup_->volumeResult().invalid_points);
@@ -247,7 +242,7 @@ void ObstacleNodelet::insertRays(const RayInsert& insert)
   const auto points = insert.points ? std::any_cast<Cloud::ConstPtr>(*insert.points) : Cloud::ConstPtr();
   geometry_msgs::Transform to_odom;
   std::string e, points_error;
-  if (!transformAt(params_.odom_frame, rays->header, to_odom, e))
+  if (!transformAt(*tf_buffer_, params_.odom_frame, rays->header, to_odom, e))
   {
     NODELET_WARN_THROTTLE(2.0, "dropping ray cloud: %s", e.c_str());
     return;
@@ -260,23 +255,9 @@ void ObstacleNodelet::insertRays(const RayInsert& insert)
   if (!points_error.empty())
     NODELET_WARN_THROTTLE(10.0, "points cloud adds no rays to the map: %s", points_error.c_str());
   map_stamp_ = rays->header.stamp;
+  sup_->addRays(rays_, rays->header.stamp.toSec());
   const ros::Time now = ros::Time::now();
-  carryOut(sup_->addRays(rays_, rays->header.stamp.toSec(), now.toSec()), now);
-}
-
-bool ObstacleNodelet::transformAt(const std::string& target, const std_msgs::Header& header,
-                                  geometry_msgs::Transform& transform, std::string& error)
-{
-  try
-  {
-    transform = tf_buffer_->lookupTransform(target, header.frame_id, header.stamp).transform;
-    return true;
-  }
-  catch (const tf2::TransformException& e)
-  {
-    error = e.what();
-    return false;
-  }
+  carryOut(sup_->step(now.toSec(), true), now);  // the plan on the updated map (after the stop check)
 }
 
 void ObstacleNodelet::onHazards(const sl_msgs::Hazards& msg)

@@ -1,18 +1,7 @@
 // Runs the sl_projector/projector nodelet in its own process.
-#include <nodelet/loader.h>
-#include <ros/ros.h>
+#include "sl_params/nodelet_node.h"
 
 int main(int argc, char** argv)
 {
-  ros::init(argc, argv, "projector");
-  nodelet::Loader loader;
-  const nodelet::M_string remappings(ros::names::getRemappings());
-  const nodelet::V_string my_argv(argv + 1, argv + argc);
-  if (!loader.load(ros::this_node::getName(), "sl_projector/projector", remappings, my_argv))
-  {
-    ROS_FATAL("could not load the sl_projector/projector nodelet (see the error above)");
-    return 1;
-  }
-  ros::spin();
-  return 0;
+  return sl_params::runNodelet(argc, argv, "projector", "sl_projector/projector");
 }

@@ -4,8 +4,12 @@
 /// (ROS-free; yaml-cpp). A key outside the set is refused, so that a misspelt optional key is never
 /// ignored silently: `camera.Kx: unknown key, did you mean 'K'? (allowed: D, K, height, width)`.
 /// The messages start with the key; the reader of a file puts the file's name before them.
+/// readFileText() and parseMappingFile() are the loading both readers share, each throwing its own
+/// error type.
 
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include <yaml-cpp/yaml.h>
@@ -31,5 +35,53 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed, con
  * or two are equally near.
  */
 std::string nearestKey(const std::string& key, const std::set<std::string>& candidates);
+
+/**
+ * @brief The whole text of file @p path.
+ * @throws Error "<path>: cannot open the <what>" (@p what: "calibration file", "scene file").
+ */
+template <class Error>
+std::string readFileText(const std::string& path, const std::string& what)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw Error(path + ": cannot open the " + what);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+/**
+ * @brief Parses @p text, the YAML of file @p source, whose top level must be a mapping, and returns
+ * what @p parse makes of that mapping.
+ * @param expected said after "must be a mapping" when it is not (e.g. " with 'objects'").
+ * @throws Error "<source>: not valid YAML: ...", "<source>: <top level>: must be a mapping<expected>
+ *         (is the file empty?)", or "<source>: <what>" for a YAML::Exception out of @p parse (a
+ *         backstop: @p parse names the keys itself).
+ */
+template <class Error, class Parse>
+auto parseMappingFile(const std::string& text, const std::string& source, const std::string& expected, Parse parse)
+    -> decltype(parse(YAML::Node()))
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw Error(source + ": not valid YAML: " + e.what());
+  }
+  if (!root || !root.IsMap())
+    throw Error(source + ": <top level>: must be a mapping" + expected + " (is the file empty?)");
+  try
+  {
+    return parse(root);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw Error(source + ": " + e.what());
+  }
+}
 
 }  // namespace sl_rig

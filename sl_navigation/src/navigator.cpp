@@ -8,6 +8,11 @@
 
 namespace sl_navigation
 {
+namespace
+{
+constexpr double kSearchAllowance = 1.0;  // m driven beyond max_detour x the distance (short goals)
+}  // namespace
+
 void NavigatorParams::validate() const
 {
   grid.validate();
@@ -310,6 +315,18 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
     std::snprintf(text, sizeof(text),
                   "goal aborted: no progress for %.0f s (%.2f m of path left, %.2f m straight): unreachable from here",
                   params_.progress_timeout, c.remaining, c.goal_distance);
+    end(NavState::ABORTED, text);
+    out_.command = true;
+    stop_pending_ = false;
+    return out_;
+  }
+  const double search = params_.max_detour * goal_distance_ + kSearchAllowance;
+  if (out_.travelled > search)
+  {
+    std::snprintf(text, sizeof(text),
+                  "goal aborted: %.2f m driven in search of a way, max_detour x the first straight-line distance "
+                  "(%.2f m) + %.1f m (%.2f m of path left): unreachable from here",
+                  out_.travelled, goal_distance_, kSearchAllowance, c.remaining);
     end(NavState::ABORTED, text);
     out_.command = true;
     stop_pending_ = false;

@@ -242,3 +242,40 @@ TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops)
   EXPECT_EQ(stop.angular, 0.0);
   EXPECT_EQ(stop.reason, "cancelled by the test");
 }
+
+TEST(Navigator, TheSearchForAWayIsBoundedByTheDistanceDriven)
+{
+  // A robot that keeps moving (here around a circle that never comes nearer than 1.2 m, as one
+  // circling furniture in search of a way in) is ABORTED once it has driven max_detour x the first
+  // straight-line distance + 1 m, whatever the progress count says.
+  Navigator nav(params());
+  std::vector<std::int8_t> data;
+  ASSERT_TRUE(nav.onMap(freeWindow(data), 0.0));
+  const NavGoal goal{ 1.5, 0.0, 0.0, false };
+  ASSERT_TRUE(nav.setGoal(goal, 0.0).empty());
+  const double first = 1.5;
+  const double bound = nav.params().max_detour * first + 1.0;
+  double driven = 0.0;
+  Pose p;
+  p.x = 0.0;
+  NavState state = NavState::ACTIVE;
+  std::string reason;
+  for (int k = 1; k <= 2000 && state == NavState::ACTIVE; ++k)
+  {
+    const double t = 0.05 * k;
+    const double a = 0.15 * k;  // 0.045 m per step on a circle of radius 0.3 around (-0.3, 0)
+    Pose next;
+    next.x = -0.3 + 0.3 * std::cos(a);
+    next.y = 0.3 * std::sin(a);
+    driven += std::hypot(next.x - p.x, next.y - p.y);
+    p = next;
+    std::vector<std::int8_t> fresh;
+    nav.onMap(freeWindow(fresh), t);
+    const NavOutput& out = nav.step(p, t);
+    state = out.state;
+    reason = out.reason;
+  }
+  EXPECT_EQ(state, NavState::ABORTED) << reason;
+  EXPECT_NE(reason.find("in search of a way"), std::string::npos) << reason;
+  EXPECT_NEAR(driven, bound, 0.1);
+}

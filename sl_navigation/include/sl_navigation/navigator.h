@@ -24,9 +24,10 @@ struct NavigatorParams
   double progress_distance = 0.1;  ///< m of remaining path that count as progress
   double refuse_time = 2.0;        ///< s a blocked or enclosed goal must stay so before it is aborted (refuse_time)
   double switch_gain = 0.15;       ///< a new plan replaces a still passable one only when this much cheaper (share)
-  /// A detour forced by an obstacle on the path restarts the progress count, while it is at most
-  /// this many times the goal's straight-line distance when it was set (max_detour); longer ones do not
-  double max_detour = 2.5;
+  /// A detour forced by an obstacle on the path restarts the progress count while it is at most this
+  /// many times the goal's first straight-line distance d (max_detour); a goal not reached after
+  /// driving max_detour x d + 1 m is ABORTED (the search for a way is bounded)
+  double max_detour = 3.5;
   double stuck_time = 3.0;         ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
   double look_around = 0.6;        ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
   double map_timeout = 2.0;        ///< s without a local map before the robot stops (map_timeout)

@@ -708,8 +708,7 @@ bool CoverageRunner::nextGoal(const Pose& pose, double now)
     if (goal_index_ >= target_.goals.size())
     {
       target_ = planner_.next(nav_.grid(), coverage_, pose, now);
-      progress_ = coverage_.progress(planner_.floor());
-      progress_time_ = now;
+      measure(now);
       ++targets_[static_cast<int>(target_.mode)];
       goal_index_ = 0;
       if (target_.mode == CoverageMode::DONE)
@@ -827,7 +826,24 @@ bool CoverageRunner::escape(const Pose& pose, double now)
   return true;
 }
 
-const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt)
+void CoverageRunner::measure(double now)
+{
+  std::size_t floor_cells = 0;
+  progress_ = coverage_.progress(planner_.floor(), nullptr, &floor_cells);
+  const double res = nav_.grid().params().resolution;
+  floor_area_ = static_cast<double>(floor_cells) * res * res;
+  progress_time_ = now;
+}
+
+std::string CoverageRunner::summary() const
+{
+  char text[120];
+  std::snprintf(text, sizeof(text), "coverage %.1f %% of %.2f m2 reachable floor, %s", 100.0 * progress_, floor_area_,
+                done_ ? "DONE" : (started_ ? toString(target_.mode) : "waiting for the map"));
+  return text;
+}
+
+const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt, double speed_cap)
 {
   if (!nav_.hasMap() || !std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.yaw))
   {
@@ -854,13 +870,12 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt)
   if (now - progress_time_ >= 2.0)
   {
     planner_.update(nav_.grid(), coverage_, pose, now);
-    progress_ = coverage_.progress(planner_.floor());
-    progress_time_ = now;
+    measure(now);
   }
-  const double cap = target_.mode == CoverageMode::EDGE && !done_
-                         ? std::max(0.0, target_.speed_limit - nav_.params().follower.acceleration * dt)
-                         : std::numeric_limits<double>::infinity();
-  out_ = nav_.step(pose, now, cap);
+  const double edge_cap = target_.mode == CoverageMode::EDGE && !done_
+                              ? std::max(0.0, target_.speed_limit - nav_.params().follower.acceleration * dt)
+                              : std::numeric_limits<double>::infinity();
+  out_ = nav_.step(pose, now, std::min(edge_cap, speed_cap));
   const bool guarded = out_.linear > 0.0 && !safe(pose, out_.linear, out_.angular, now);
   watchBlocked(pose, now, guarded);
   if (guarded && escape_phase_ == 0)

@@ -339,6 +339,41 @@ TEST(CoverageRunner, StopsForABadPoseAndDrivesOnWithAGoodOne)
   EXPECT_GT(runner.progress(), 0.2);  // measured 0.359
 }
 
+TEST(CoverageRunner, KeepsTheFilterSpeedCapAndSummarisesTheProgress)
+{
+  CoverageRunner runner(cleaningNavigator(), CoverageParams());
+  const World world = closedRoom(3.0, 2.0);
+  std::vector<std::int8_t> memory, data;
+  OccupancyView view;
+  Pose pose;
+  pose.x = 1.0;
+  pose.y = 1.0;
+  EXPECT_EQ(runner.summary(), "coverage 0.0 % of 0.00 m2 reachable floor, waiting for the map");
+  double fastest = 0.0, moved = 0.0;
+  for (double t = 1.0; t < 15.0; t += 0.05)
+  {
+    if (std::fmod(t, 0.5) < 0.05)
+    {
+      world.sense(pose, memory, data, view);
+      runner.onMap(view, t);
+    }
+    const NavOutput& o = runner.step(pose, t, 0.05, 0.08);  // the filter let 0.08 m/s through
+    fastest = std::max(fastest, o.linear);
+    const Pose before = pose;
+    World::move(pose, o.linear, o.angular, 0.05);
+    moved += std::hypot(pose.x - before.x, pose.y - before.y);
+  }
+  const std::string line = runner.summary();
+  std::printf("capped at 0.08 m/s: fastest %.3f m/s, %.2f m driven; %s\n", fastest, moved, line.c_str());
+  // The follower adds the rise its acceleration allows in a step to what the filter let through.
+  EXPECT_LE(fastest, 0.08 + runner.navigator().params().follower.acceleration * 0.05 + 1e-9);
+  EXPECT_GT(moved, 0.8);  // measured 1.36 m
+  EXPECT_GT(runner.floorArea(), 1.0);
+  char expected[80];
+  std::snprintf(expected, sizeof(expected), "coverage %.1f %% of %.2f m2", 100.0 * runner.progress(), runner.floorArea());
+  EXPECT_EQ(line.rfind(expected, 0), 0u) << line;
+}
+
 // Cover against bump and turn in three furnished rooms, 10 simulated minutes from the same start
 // (COVER_SEEDS seeds each, default 3; COVER_EDGES_FIRST=1: edge passes before lanes; COVER_TRACE=1:
 // each goal's end and each contact; COVER_PICTURE=<dir>: the first seed's map and coverage as PPM).

@@ -187,14 +187,21 @@ public:
 
   /// A local occupancy window (see Navigator::onMap()).
   bool onMap(const OccupancyView& view, double stamp);
-  /// One control step from @p pose at @p now; @p dt (s) is the control period. Before the first
-  /// map, or for a non-finite pose, the navigator alone answers (it stops) and no target is taken.
-  const NavOutput& step(const Pose& pose, double now, double dt);
+  /// One control step from @p pose at @p now; @p dt (s) is the control period; @p speed_cap (m/s):
+  /// what the safety filter let through (see PathFollower::step()), combined with the edge speed.
+  /// Before the first map, or for a non-finite pose, the navigator alone answers (it stops) and no
+  /// target is taken.
+  const NavOutput& step(const Pose& pose, double now, double dt,
+                        double speed_cap = std::numeric_limits<double>::infinity());
 
   /// True once the planner reported DONE.
   bool done() const { return done_; }
   /// covered / reachable floor at the last planner update (0..1).
   double progress() const { return progress_; }
+  /// The reachable floor at the last planner update, m^2.
+  double floorArea() const { return floor_area_; }
+  /// One line for a status: "coverage 42.3 % of 7.91 m2 reachable floor, LANE" (DONE once done).
+  std::string summary() const;
   /// The mode of the target being driven.
   CoverageMode mode() const { return target_.mode; }
   /// The navigator.
@@ -226,7 +233,11 @@ private:
   std::size_t goal_index_ = 0;
   bool done_ = false;
   bool started_ = false;
+  /// Takes progress_ and floor_area_ from the planner's last update.
+  void measure(double now);
+
   double progress_ = 0.0;
+  double floor_area_ = 0.0;
   double progress_time_ = -std::numeric_limits<double>::infinity();
   int targets_[5] = { 0, 0, 0, 0, 0 };
   NavOutput out_;

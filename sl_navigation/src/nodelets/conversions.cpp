@@ -1,6 +1,9 @@
 #include "conversions.h"
 
+#include <cmath>
+
 #include <tf2/LinearMath/Quaternion.h>
+#include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 
 namespace sl_navigation
@@ -79,5 +82,90 @@ geometry_msgs::PoseStamped toPoseStamped(const Pose& pose, const std::string& fr
   q.setRPY(0.0, 0.0, pose.yaw);
   p.pose.orientation = tf2::toMsg(q);
   return p;
+}
+
+NavGoal toNavGoal(const geometry_msgs::PoseStamped& goal)
+{
+  NavGoal g;
+  g.x = goal.pose.position.x;
+  g.y = goal.pose.position.y;
+  const auto& q = goal.pose.orientation;
+  const double norm = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+  g.use_yaw = std::isfinite(norm) && norm > 0.5;
+  g.yaw = g.use_yaw ? tf2::getYaw(q) : 0.0;
+  return g;
+}
+
+bool transformGoal(const tf2_ros::Buffer& tf, const geometry_msgs::PoseStamped& goal, const std::string& frame,
+                   geometry_msgs::PoseStamped& out, std::string& why)
+{
+  try
+  {
+    geometry_msgs::PoseStamped latest = goal;
+    latest.header.stamp = ros::Time(0);
+    out = tf.transform(latest, frame, ros::Duration(0.2));
+    return true;
+  }
+  catch (const tf2::TransformException& e)
+  {
+    why = "goal refused: cannot transform it from frame '" + goal.header.frame_id + "' to '" + frame + "': " + e.what();
+    return false;
+  }
+}
+
+geometry_msgs::TwistStamped toTwist(double linear, double angular, const std::string& frame, const ros::Time& stamp)
+{
+  geometry_msgs::TwistStamped cmd;
+  cmd.header.stamp = stamp;
+  cmd.header.frame_id = frame;
+  cmd.twist.linear.x = linear;
+  cmd.twist.angular.z = angular;
+  return cmd;
+}
+
+bool lookupPose(const tf2_ros::Buffer& tf, const std::string& odom, const std::string& robot, double timeout,
+                Pose& pose, std::string& why)
+{
+  geometry_msgs::TransformStamped t;
+  try
+  {
+    t = tf.lookupTransform(odom, robot, ros::Time(0));
+  }
+  catch (const tf2::TransformException& e)
+  {
+    why = std::string("no odometry: ") + e.what();
+    return false;
+  }
+  const double age = (ros::Time::now() - t.header.stamp).toSec();
+  if (age > timeout)
+  {
+    why = "no odometry: " + odom + " -> " + robot + " is " + std::to_string(age) + " s old (pose_timeout " +
+          std::to_string(timeout) + " s)";
+    return false;
+  }
+  pose.x = t.transform.translation.x;
+  pose.y = t.transform.translation.y;
+  pose.yaw = tf2::getYaw(t.transform.rotation);
+  return true;
+}
+
+void finishAction(ActionServer& action, const NavOutput& out)
+{
+  if (!action.isActive())
+  {
+    return;
+  }
+  if (out.state == NavState::SUCCEEDED)
+  {
+    action.setSucceeded(move_base_msgs::MoveBaseResult(), out.reason);
+  }
+  else if (out.state == NavState::CANCELLED)
+  {
+    action.setPreempted(move_base_msgs::MoveBaseResult(), out.reason);
+  }
+  else
+  {
+    action.setAborted(move_base_msgs::MoveBaseResult(), out.reason);
+  }
 }
 }  // namespace sl_navigation

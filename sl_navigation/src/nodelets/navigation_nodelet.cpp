@@ -1,8 +1,10 @@
 // The navigation nodelet: goals from move_base_simple/goal and the move_base action, the local map
 // (local_map) fused into a persistent map, velocity commands on cmd_vel_in_stamped (through the
 // obstacle node's safety filter, whose obstacle_status says how much of each command it let through),
-// the plan, the map and the status. The logic is the ROS-free
-// sl_navigation::Navigator; this file only converts and times.
+// the plan, the map and the status; with ~behaviour cover, cleaning coverage instead of goals
+// (coverage_output.h). The logic is the ROS-free sl_navigation::Navigator and CoverageRunner; this
+// file only converts and times.
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -19,21 +21,29 @@
 #include <ros/ros.h>
 #include <sl_msgs/NavigationStatus.h>
 #include <sl_msgs/ObstacleStatus.h>
-#include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include "conversions.h"
+#include "coverage_output.h"
 #include "params.h"
-#include "sl_navigation/navigator.h"
+#include "sl_navigation/coverage_planner.h"
 
 namespace sl_navigation
 {
-using ActionServer = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
-
 class NavigationNodelet : public nodelet::Nodelet
 {
+public:
+  ~NavigationNodelet() override
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (cover_out_)
+    {
+      cover_out_->finish(*runner_, ros::Time::now());
+    }
+  }
+
 private:
   void onInit() override;
   void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg);
@@ -44,13 +54,16 @@ private:
   /// Transforms @p goal into the odom frame and hands it to the navigator. Caller holds mutex_.
   bool startGoal(const geometry_msgs::PoseStamped& goal, std::string& why);
   void onTimer(const ros::TimerEvent& e);
-  bool lookupPose(Pose& pose, std::string& why) const;
-  void publishCommand(double linear, double angular, const ros::Time& now);
+  /// One cleaning step (cover); @p pose is NaN without odometry (@p why says why).
+  void cover(const Pose& pose, const std::string& why, double speed_cap, const ros::Time& now);
+  void publishOutput(const NavOutput& out, const ros::Time& now);
   void publishMap(const ros::Time& now);
-  void finishAction(const NavOutput& out);
+  const Navigator& navigator() const { return runner_ ? runner_->navigator() : *nav_; }
 
   NodeParams params_;
-  std::unique_ptr<Navigator> nav_;
+  std::unique_ptr<Navigator> nav_;          // navigate
+  std::unique_ptr<CoverageRunner> runner_;  // cover: holds its own navigator
+  std::unique_ptr<CoverageOutput> cover_out_;
   std::mutex mutex_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -72,7 +85,14 @@ void NavigationNodelet::onInit()
   try
   {
     params_ = readParams(pnh);
-    nav_ = std::make_unique<Navigator>(params_.navigator);
+    if (params_.cover)
+    {
+      runner_ = std::make_unique<CoverageRunner>(params_.navigator, params_.coverage);
+    }
+    else
+    {
+      nav_ = std::make_unique<Navigator>(params_.navigator);
+    }
   }
   catch (const std::exception& e)
   {
@@ -86,18 +106,25 @@ void NavigationNodelet::onInit()
   status_pub_ = nh.advertise<sl_msgs::NavigationStatus>("navigation_status", 10);
   map_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("nav_map", 1);
   map_sub_ = nh.subscribe("local_map", 2, &NavigationNodelet::onMap, this);
-  goal_sub_ = nh.subscribe("move_base_simple/goal", 1, &NavigationNodelet::onSimpleGoal, this);
   filter_sub_ = nh.subscribe("obstacle_status", 5, &NavigationNodelet::onFilter, this);
-  action_ = std::make_unique<ActionServer>(nh, "move_base", false);
-  action_->registerGoalCallback([this] { onActionGoal(); });
-  action_->registerPreemptCallback([this] { onActionPreempt(); });
-  action_->start();
+  if (params_.cover)
+  {
+    cover_out_ = std::make_unique<CoverageOutput>(nh, params_);
+  }
+  else
+  {
+    goal_sub_ = nh.subscribe("move_base_simple/goal", 1, &NavigationNodelet::onSimpleGoal, this);
+    action_ = std::make_unique<ActionServer>(nh, "move_base", false);
+    action_->registerGoalCallback([this] { onActionGoal(); });
+    action_->registerPreemptCallback([this] { onActionPreempt(); });
+    action_->start();
+  }
   // getNodeHandle(): this nodelet's callbacks (timer, subscriptions, actionlib) run one at a time;
   // mutex_ guards against actionlib's own threads, which take their lock before ours.
   timer_ = nh.createTimer(ros::Duration(1.0 / params_.control_rate), &NavigationNodelet::onTimer, this);
-  NODELET_INFO("navigation: map %.0f x %.0f m at %.2f m in %s, max_speed %.2f m/s, goal_tolerance %.2f m",
-               params_.navigator.grid.size, params_.navigator.grid.size, params_.navigator.grid.resolution,
-               params_.odom_frame.c_str(), params_.navigator.follower.max_speed,
+  NODELET_INFO("navigation (%s): map %.0f x %.0f m at %.2f m in %s, max_speed %.2f m/s, goal_tolerance %.2f m",
+               params_.cover ? "cover" : "navigate", params_.navigator.grid.size, params_.navigator.grid.size,
+               params_.navigator.grid.resolution, params_.odom_frame.c_str(), params_.navigator.follower.max_speed,
                params_.navigator.follower.goal_tolerance);
 }
 
@@ -112,7 +139,8 @@ void NavigationNodelet::onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg)
   OccupancyView v;
   const bool sized = toView(*msg, v);
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!sized || !nav_->onMap(v, msg->header.stamp.toSec()))
+  const double stamp = msg->header.stamp.toSec();
+  if (!sized || !(runner_ ? runner_->onMap(v, stamp) : nav_->onMap(v, stamp)))
   {
     NODELET_ERROR_THROTTLE(5.0, "local_map refused: %u x %u cells, %zu values, resolution %g, origin (%g, %g)",
                            msg->info.width, msg->info.height, msg->data.size(), msg->info.resolution, v.origin_x,
@@ -132,29 +160,12 @@ void NavigationNodelet::onFilter(const sl_msgs::ObstacleStatus::ConstPtr& msg)
 
 bool NavigationNodelet::startGoal(const geometry_msgs::PoseStamped& goal, std::string& why)
 {
-  geometry_msgs::PoseStamped in_odom;
-  try
+  if (!transformGoal(*tf_buffer_, goal, params_.odom_frame, goal_msg_, why))
   {
-    geometry_msgs::PoseStamped latest = goal;
-    latest.header.stamp = ros::Time(0);  // the goal is a place, not a moment: the latest transform
-    in_odom = tf_buffer_->transform(latest, params_.odom_frame, ros::Duration(0.2));
-  }
-  catch (const tf2::TransformException& e)
-  {
-    why = "goal refused: cannot transform it from frame '" + goal.header.frame_id + "' to '" + params_.odom_frame +
-          "': " + e.what();
     nav_->refuse(why);
     return false;
   }
-  NavGoal g;
-  g.x = in_odom.pose.position.x;
-  g.y = in_odom.pose.position.y;
-  const auto& q = in_odom.pose.orientation;
-  const double norm = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
-  g.use_yaw = std::isfinite(norm) && norm > 0.5;
-  g.yaw = g.use_yaw ? tf2::getYaw(in_odom.pose.orientation) : 0.0;
-  why = nav_->setGoal(g, ros::Time::now().toSec());
-  goal_msg_ = in_odom;
+  why = nav_->setGoal(toNavGoal(goal_msg_), ros::Time::now().toSec());
   return why.empty();
 }
 
@@ -202,43 +213,26 @@ void NavigationNodelet::onActionPreempt()
   action_goal_ = false;
 }
 
-bool NavigationNodelet::lookupPose(Pose& pose, std::string& why) const
-{
-  geometry_msgs::TransformStamped t;
-  try
-  {
-    t = tf_buffer_->lookupTransform(params_.odom_frame, params_.robot_frame, ros::Time(0));
-  }
-  catch (const tf2::TransformException& e)
-  {
-    why = std::string("no odometry: ") + e.what();
-    return false;
-  }
-  const double age = (ros::Time::now() - t.header.stamp).toSec();
-  if (age > params_.pose_timeout)
-  {
-    why = "no odometry: " + params_.odom_frame + " -> " + params_.robot_frame + " is " + std::to_string(age) +
-          " s old (pose_timeout " + std::to_string(params_.pose_timeout) + " s)";
-    return false;
-  }
-  pose.x = t.transform.translation.x;
-  pose.y = t.transform.translation.y;
-  pose.yaw = tf2::getYaw(t.transform.rotation);
-  return true;
-}
-
 void NavigationNodelet::onTimer(const ros::TimerEvent&)
 {
   const ros::Time now = ros::Time::now();
   std::lock_guard<std::mutex> lock(mutex_);
   Pose pose;
   std::string why;
-  if (!lookupPose(pose, why))
+  const bool have_pose =
+      lookupPose(*tf_buffer_, params_.odom_frame, params_.robot_frame, params_.pose_timeout, pose, why);
+  const double cap = (now - speed_cap_time_).toSec() < 0.5 ? speed_cap_ : std::numeric_limits<double>::infinity();
+  if (runner_)
+  {
+    cover(have_pose ? pose : Pose{ NAN, NAN, NAN }, why, cap, now);
+    return;
+  }
+  if (!have_pose)
   {
     const bool active = nav_->state() == NavState::ACTIVE;
     if (nav_->noPose(now.toSec(), why))
     {
-      publishCommand(0.0, 0.0, now);  // keep the filter fed with a stop while the pose is missing
+      cmd_pub_.publish(toTwist(0.0, 0.0, params_.robot_frame, now));  // a stop while the pose is missing
     }
     if (active)
     {
@@ -249,24 +243,17 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
       NavOutput ended;
       ended.state = nav_->state();
       ended.reason = why;
-      finishAction(ended);
+      action_goal_ = false;
+      finishAction(*action_, ended);
     }
     return;
   }
-  const bool cap_fresh = (now - speed_cap_time_).toSec() < 0.5;
-  const NavOutput& out =
-      nav_->step(pose, now.toSec(), cap_fresh ? speed_cap_ : std::numeric_limits<double>::infinity());
-  if (out.command)
-  {
-    publishCommand(out.linear, out.angular, now);
-  }
-  if (out.plan_changed)
-  {
-    plan_pub_.publish(toPath(nav_->plan().points, params_.odom_frame, now));
-  }
+  const NavOutput& out = nav_->step(pose, now.toSec(), cap);
+  publishOutput(out, now);
   if (action_goal_ && out.state != NavState::ACTIVE)
   {
-    finishAction(out);
+    action_goal_ = false;
+    finishAction(*action_, out);
   }
   else if (action_goal_ && action_->isActive())
   {
@@ -278,35 +265,28 @@ void NavigationNodelet::onTimer(const ros::TimerEvent&)
   publishMap(now);
 }
 
-void NavigationNodelet::finishAction(const NavOutput& out)
+void NavigationNodelet::cover(const Pose& pose, const std::string& why, double speed_cap, const ros::Time& now)
 {
-  action_goal_ = false;
-  if (!action_->isActive())
+  if (!why.empty())
   {
-    return;
+    NODELET_WARN_THROTTLE(2.0, "%s: stopped", why.c_str());
   }
-  if (out.state == NavState::SUCCEEDED)
-  {
-    action_->setSucceeded(move_base_msgs::MoveBaseResult(), out.reason);
-  }
-  else if (out.state == NavState::CANCELLED)
-  {
-    action_->setPreempted(move_base_msgs::MoveBaseResult(), out.reason);
-  }
-  else
-  {
-    action_->setAborted(move_base_msgs::MoveBaseResult(), out.reason);
-  }
+  const NavOutput& out = runner_->step(pose, now.toSec(), 1.0 / params_.control_rate, speed_cap);
+  publishOutput(out, now);
+  status_pub_.publish(cover_out_->update(*runner_, out, why, now));
+  publishMap(now);
 }
 
-void NavigationNodelet::publishCommand(double linear, double angular, const ros::Time& now)
+void NavigationNodelet::publishOutput(const NavOutput& out, const ros::Time& now)
 {
-  geometry_msgs::TwistStamped cmd;
-  cmd.header.stamp = now;
-  cmd.header.frame_id = params_.robot_frame;
-  cmd.twist.linear.x = linear;
-  cmd.twist.angular.z = angular;
-  cmd_pub_.publish(cmd);
+  if (out.command)
+  {
+    cmd_pub_.publish(toTwist(out.linear, out.angular, params_.robot_frame, now));
+  }
+  if (out.plan_changed)
+  {
+    plan_pub_.publish(toPath(navigator().plan().points, params_.odom_frame, now));
+  }
 }
 
 void NavigationNodelet::publishMap(const ros::Time& now)
@@ -317,7 +297,7 @@ void NavigationNodelet::publishMap(const ros::Time& now)
   }
   map_published_ = now;
   nav_msgs::OccupancyGrid m;
-  toGrid(nav_->grid(), now.toSec(), params_.odom_frame, now, m);
+  toGrid(navigator().grid(), now.toSec(), params_.odom_frame, now, m);
   map_pub_.publish(m);
 }
 }  // namespace sl_navigation

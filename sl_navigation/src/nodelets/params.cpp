@@ -45,7 +45,8 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   const double lateral_margin = sl_params::read(pnh, "lateral_margin", 0.02);
   if (!(lateral_margin >= 0.0 && lateral_margin <= 0.5))
   {
-    throw std::invalid_argument("parameter ~lateral_margin must be in [0, 0.5] m (got " + std::to_string(lateral_margin) + ")");
+    throw std::invalid_argument("parameter ~lateral_margin must be in [0, 0.5] m (got " +
+                                std::to_string(lateral_margin) + ")");
   }
   f.swept_radius = n.planner.robot_radius + lateral_margin;
   get(pnh, "lookahead", f.lookahead);
@@ -66,9 +67,24 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "stuck_time", n.stuck_time);
   get(pnh, "look_around", n.look_around);
   get(pnh, "map_timeout", n.map_timeout);
+  const std::string behaviour = sl_params::read(pnh, "behaviour", std::string("navigate"));
+  p.cover = behaviour == "cover";
+  CoverageParams& c = p.coverage;
+  c.planner = n.planner;
+  get(pnh, "lane_spacing", c.lane_spacing);
+  get(pnh, "lanes_along_x", c.lanes_along_x);
+  get(pnh, "edge_clearance", c.edge_clearance);
+  get(pnh, "edge_speed", c.edge_speed);
+  get(pnh, "edges_first", c.edges_first);
+  get(pnh, "coverage_png", p.coverage_png);
   try
   {
+    if (behaviour != "navigate" && behaviour != "cover")
+    {
+      throw std::invalid_argument("behaviour must be navigate or cover (got '" + behaviour + "')");
+    }
     n.validate();
+    c.validate();
     if (!(p.control_rate >= 2.0 && p.control_rate <= 100.0))
     {
       throw std::invalid_argument("control_rate must be in [2, 100] Hz (got " + std::to_string(p.control_rate) + ")");

@@ -5,7 +5,7 @@
 
 #include <ros/node_handle.h>
 
-#include "sl_navigation/navigator.h"
+#include "sl_navigation/coverage_planner.h"
 
 namespace sl_navigation
 {
@@ -13,11 +13,14 @@ namespace sl_navigation
 struct NodeParams
 {
   NavigatorParams navigator;
-  std::string odom_frame = "odom";       ///< the map's frame; goals are transformed into it
+  std::string odom_frame = "odom";  ///< the map's frame; goals are transformed into it
   std::string robot_frame = "base_link";
-  double control_rate = 20.0;            ///< Hz of the control loop (commands on cmd_vel_in_stamped)
-  double pose_timeout = 0.5;             ///< s: an odom -> base_link older than this stops the robot
-  double map_publish_period = 1.0;       ///< s between nav_map messages (while subscribed)
+  double control_rate = 20.0;       ///< Hz of the control loop (commands on cmd_vel_in_stamped)
+  double pose_timeout = 0.5;        ///< s: an odom -> base_link older than this stops the robot
+  double map_publish_period = 1.0;  ///< s between nav_map and coverage messages (while subscribed)
+  bool cover = false;               ///< ~behaviour cover: cleaning coverage instead of goals (navigate)
+  CoverageParams coverage;          ///< the cleaning targets (cover)
+  std::string coverage_png;         ///< cover: the map with the coverage written here at the end (empty: none)
 };
 
 /// Reads and checks the parameters. @throws std::invalid_argument naming the parameter.

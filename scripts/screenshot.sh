@@ -10,7 +10,8 @@
 # 300 KB) and stops everything it started. Needs xvfb, x11-apps (xwd) and imagemagick (convert).
 # With GOAL="x y" (world frame, m) and `-- behaviour:=navigate ...` it sends that goal as rviz's
 # "2D Nav Goal" does and grabs the screen once the robot has driven GOAL_TRAVEL m (default 1.0)
-# toward it, with the plan in view.
+# toward it, with the plan in view. With WAIT=<s> (e.g. with `-- behaviour:=cover`, the coverage
+# layer filling) it grabs the screen WAIT seconds after the launch instead.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/doc/sl_rviz.png"
@@ -82,6 +83,8 @@ while rospy.get_time() < deadline:
         sys.exit("screenshot: the goal was aborted: " + s.reason)
 sys.exit("screenshot: the robot did not drive %.1f m toward the goal within 180 s" % travel)
 EOF
+elif [[ -n ${WAIT:-} ]]; then
+  sleep "$WAIT"
 else
 /usr/bin/python3 - <<'EOF' || { tail -n 30 "$work/launch.log"; exit 1; }
 import sys, rospy

@@ -241,21 +241,6 @@ std::string imageRays(const sensor_msgs::PointCloud2& ray_ends, const sensor_msg
   return e;
 }
 
-bool transformAt(const tf2_ros::Buffer& tf, const std::string& target, const std_msgs::Header& header,
-                 geometry_msgs::Transform& transform, std::string& error)
-{
-  try
-  {
-    transform = tf.lookupTransform(target, header.frame_id, header.stamp).transform;
-    return true;
-  }
-  catch (const tf2::TransformException& e)
-  {
-    error = e.what();
-    return false;
-  }
-}
-
 const char* toString(tf2_ros::FilterFailureReason reason)
 {
   return reason == tf2_ros::filter_failure_reasons::OutTheBack     ? "older than the tf buffer"

@@ -24,11 +24,6 @@ namespace sl_obstacle
 std::string convertCloud(const sensor_msgs::PointCloud2& cloud, const geometry_msgs::Transform& transform,
                          std::vector<Point>& points);
 
-/// The transform of @p header's frame into @p target at its stamp from @p tf; false with @p error
-/// when tf does not know it.
-bool transformAt(const tf2_ros::Buffer& tf, const std::string& target, const std_msgs::Header& header,
-                 geometry_msgs::Transform& transform, std::string& error);
-
 /// Why a tf2 message filter dropped a cloud, e.g. "older than the tf buffer".
 const char* toString(tf2_ros::FilterFailureReason reason);
 

@@ -107,4 +107,19 @@ bool RobotLink::driverReady()
 {
   return drive_ ? drive_->connected() : cmd_vel_pub_.getNumSubscribers() > 0;
 }
+
+bool transformAt(const tf2_ros::Buffer& tf, const std::string& target, const std_msgs::Header& header,
+                 geometry_msgs::Transform& transform, std::string& error)
+{
+  try
+  {
+    transform = tf.lookupTransform(target, header.frame_id, header.stamp).transform;
+    return true;
+  }
+  catch (const tf2::TransformException& e)
+  {
+    error = e.what();
+    return false;
+  }
+}
 }  // namespace sl_obstacle

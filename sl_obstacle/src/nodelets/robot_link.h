@@ -7,6 +7,8 @@
 
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
+#include <geometry_msgs/Transform.h>
+#include <std_msgs/Header.h>
 #include <tf2_ros/buffer.h>
 
 #include "drive_client.h"
@@ -16,6 +18,11 @@
 
 namespace sl_obstacle
 {
+/// The transform of @p header's frame into @p target at its stamp from @p tf; false with @p error
+/// when tf does not know it.
+bool transformAt(const tf2_ros::Buffer& tf, const std::string& target, const std_msgs::Header& header,
+                 geometry_msgs::Transform& transform, std::string& error);
+
 /// Carries out the supervisor's outputs, status and events (logged as @p name); the supervisor's
 /// SupervisorSource.
 class RobotLink : public SupervisorSource

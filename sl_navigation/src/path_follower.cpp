@@ -10,8 +10,8 @@ namespace sl_navigation
 {
 namespace
 {
-constexpr double kSweepStep = 0.025;  // m between the discs swept along the path
-constexpr double kLookSpacing = 0.2;  // m of travel for each two looks
+constexpr double kSweepStep = 0.025;       // m between the discs swept along the path
+constexpr double kLookSpacing = 0.2;       // m of travel for each two looks
 constexpr double kReturnTolerance = 0.15;  // rad: after a look, the turn back ends this near the path
 
 double hypot2(const Point& a, const Point& b)
@@ -214,15 +214,8 @@ PathFollower::Sweep PathFollower::sweep(const Pose& pose, const ExecWindow& w) c
         }
         else if (v != 0 && v < 100)
         {
-          if (t < s.unknown)
-          {
-            s.unknown = t;
-            s.unknown_at = { x, y };
-          }
-          const double d = std::hypot(x - pose.x, y - pose.y);
-          const double bearing = wrapAngle(std::atan2(y - pose.y, x - pose.x) - pose.yaw);
-          if (may_look && t < s.look && d >= params_.look_min_distance && d <= params_.look_distance &&
-              std::abs(bearing) > params_.view_angle && !looked({ x, y }) && inSight(pose, { x, y }, w))
+          s.unknown = std::min(s.unknown, t);
+          if (may_look && t < s.look && lookable(pose, { x, y }, w))
           {
             s.look = t;
             s.look_at = { x, y };
@@ -238,6 +231,14 @@ PathFollower::Sweep PathFollower::sweep(const Pose& pose, const ExecWindow& w) c
   s.free = std::min({ s.obstacle, s.unknown, horizon }) - kSweepStep;
   s.free = std::max(0.0, s.free);
   return s;
+}
+
+bool PathFollower::lookable(const Pose& pose, const Point& p, const ExecWindow& w) const
+{
+  const double d = std::hypot(p.x - pose.x, p.y - pose.y);
+  const double bearing = wrapAngle(std::atan2(p.y - pose.y, p.x - pose.x) - pose.yaw);
+  return d >= params_.look_min_distance && d <= params_.look_distance && std::abs(bearing) > params_.view_angle &&
+         !looked(p) && inSight(pose, p, w);
 }
 
 bool PathFollower::inSight(const Pose& pose, const Point& p, const ExecWindow& w) const
@@ -270,15 +271,20 @@ bool PathFollower::looked(const Point& p) const
   return false;
 }
 
+void PathFollower::endLook(const Pose& pose)
+{
+  looks_.push_back(pose);
+  looking_ = false;
+  facing_ = false;
+  returning_ = true;  // turn back toward the path in place
+}
+
 bool PathFollower::lookAt(const Pose& pose, const Sweep& s, const ExecWindow& window, double now)
 {
   const std::int8_t target = looking_ ? window.at(look_target_.x, look_target_.y) : -1;
   if (looking_ && (target == 0 || target >= 100))
   {
-    looks_.push_back(pose);  // seen meanwhile: a look all the same
-    looking_ = false;
-    facing_ = false;
-    returning_ = true;
+    endLook(pose);  // seen meanwhile: a look all the same
   }
   if (!looking_ && (!std::isfinite(s.look) || s.obstacle <= s.look))
   {
@@ -304,10 +310,7 @@ bool PathFollower::lookAt(const Pose& pose, const Sweep& s, const ExecWindow& wi
   }
   if (now - facing_since_ >= params_.look_time)
   {
-    looks_.push_back(pose);  // what is in view now is seen as well as the camera can see it
-    facing_ = false;
-    looking_ = false;
-    returning_ = true;
+    endLook(pose);  // what is in view now is seen as well as the camera can see it
     return false;
   }
   out_.mode = FollowMode::LOOK;
@@ -344,8 +347,8 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double spe
   v = std::min(v, margin > 0.0 ? std::sqrt(2.0 * a * margin) : 0.0);
   v = std::min(v, speed_cap + params_.acceleration * dt);
   v = std::max(v, params_.min_speed);  // not blocked (step() checked): the filter decides
-  v = std::min(v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * params_.goal_tolerance)) +
-                      params_.min_speed);
+  v = std::min(
+      v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * params_.goal_tolerance)) + params_.min_speed);
   if (std::abs(curvature) > 1e-6)
   {
     v = std::min(v, params_.max_angular / std::abs(curvature));

@@ -36,11 +36,12 @@ struct FollowerParams
   double rotate_threshold = 0.8;    ///< rad: heading errors above this are turned in place first
   double look_distance = 1.2;       ///< m from base_link: unknown path cells up to this far are looked at
   double look_min_distance = 0.75;  ///< m from base_link: nearer cells are seen too close to tell the floor free
-  double view_angle = 0.15;         ///< rad, half the view in which the floor is seen free: unknown cells in it are not looked at
-  double look_tolerance = 0.15;     ///< rad: facing an unknown cell this well counts as looking at it
-  double look_time = 0.7;           ///< s to wait facing an unknown cell before driving on (the filter decides)
-  double goal_tolerance = 0.10;     ///< m (goal_tolerance)
-  double yaw_tolerance = 0.0;       ///< rad; 0: the goal's heading is ignored (yaw_tolerance)
+  double view_angle =
+      0.15;  ///< rad, half the view in which the floor is seen free: unknown cells in it are not looked at
+  double look_tolerance = 0.15;  ///< rad: facing an unknown cell this well counts as looking at it
+  double look_time = 0.7;        ///< s to wait facing an unknown cell before driving on (the filter decides)
+  double goal_tolerance = 0.10;  ///< m (goal_tolerance)
+  double yaw_tolerance = 0.0;    ///< rad; 0: the goal's heading is ignored (yaw_tolerance)
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -85,13 +86,13 @@ const char* toString(FollowMode mode);
 struct FollowCommand
 {
   FollowMode mode = FollowMode::DRIVE;
-  double linear = 0.0;   ///< m/s
-  double angular = 0.0;  ///< rad/s
+  double linear = 0.0;       ///< m/s
+  double angular = 0.0;      ///< rad/s
   double free_travel = 0.0;  ///< m of the path ahead known free (swept disc) in the window
   double obstacle_travel = std::numeric_limits<double>::infinity();  ///< m to the first occupied cell on the path
-  double remaining = 0.0;    ///< m of path left
-  double goal_distance = 0.0;  ///< m, straight line to the goal
-  std::string text;            ///< a sentence with the numbers
+  double remaining = 0.0;                                            ///< m of path left
+  double goal_distance = 0.0;                                        ///< m, straight line to the goal
+  std::string text;                                                  ///< a sentence with the numbers
 };
 
 /**
@@ -104,9 +105,9 @@ struct FollowCommand
  * view is hidden or too far, looking would not help; nearer unknown cells do not hide farther ones), it
  * first turns to face it, waits look_time for the map and turns back in place toward the path (what
  * lay in the view at a look is not looked at again): with a camera of narrow view the
- * sides of the path are seen this way before the robot gets there. Otherwise it drives toward the look-ahead point on an arc of curvature 2 sin(alpha) / L,
- * with v <= max_speed, v <= sqrt(2 a (d_obstacle - clearance)) (d_obstacle: travel to the first
- * occupied cell of the window on the path), v <= max_angular / |curvature|, v <= the filter's last
+ * sides of the path are seen this way before the robot gets there. Otherwise it drives toward the look-ahead point on
+ * an arc of curvature 2 sin(alpha) / L, with v <= max_speed, v <= sqrt(2 a (d_obstacle - clearance)) (d_obstacle:
+ * travel to the first occupied cell of the window on the path), v <= max_angular / |curvature|, v <= the filter's last
  * limit plus the rise the acceleration allows, the rise limited by acceleration, and slowing toward
  * the goal as v <= sqrt(2 a (goal distance)). Unknown space is left to the safety filter, which
  * knows it at the moment of the command (the window is up to 0.5 s old); at least min_speed is
@@ -145,7 +146,6 @@ private:
     double free = 0.0;
     double obstacle = std::numeric_limits<double>::infinity();
     double unknown = std::numeric_limits<double>::infinity();
-    Point unknown_at;
     /// The first unknown cell of the path the camera can see from here (between look_min_distance
     /// and look_distance from the robot) and not looked at yet: where to look.
     double look = std::numeric_limits<double>::infinity();
@@ -160,6 +160,11 @@ private:
   /// True when @p p lay in the camera's view (within view_angle, look_min_distance to look_distance)
   /// at one of the looks on this path: looking again would not show more.
   bool looked(const Point& p) const;
+  /// True when the unknown cell @p p is worth turning to: within look_min_distance..look_distance,
+  /// out of the view (beyond view_angle), not in view at an earlier look, and in sight.
+  bool lookable(const Pose& pose, const Point& p, const ExecWindow& w) const;
+  /// Records a look from @p pose and starts the turn back toward the path.
+  void endLook(const Pose& pose);
   /// True when no occupied cell of @p w lies between the robot and @p p.
   bool inSight(const Pose& pose, const Point& p, const ExecWindow& w) const;
 

@@ -57,10 +57,7 @@ GridParams checked(const NavigatorParams& p)
 }  // namespace
 
 Navigator::Navigator(const NavigatorParams& params)
-  : params_(params)
-  , grid_(checked(params))
-  , planner_(params.planner, grid_.width())
-  , follower_(params.follower)
+  : params_(params), grid_(checked(params)), planner_(params.planner, grid_.width()), follower_(params.follower)
 {
   out_.reason = "idle: waiting for a goal";
 }
@@ -74,7 +71,8 @@ bool Navigator::onMap(const OccupancyView& view, double stamp)
   map_time_ = stamp;
   if (!has_map_)
   {
-    grid_.reset(view.origin_x + 0.5 * view.width * view.resolution, view.origin_y + 0.5 * view.height * view.resolution);
+    grid_.reset(view.origin_x + 0.5 * view.width * view.resolution,
+                view.origin_y + 0.5 * view.height * view.resolution);
     has_map_ = true;
   }
   return grid_.fuse(view, stamp);
@@ -95,8 +93,9 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   }
   if (has_map_ && !grid_.contains(goal.x, goal.y))
   {
-    std::snprintf(text, sizeof(text), "goal refused: (%.2f, %.2f) lies outside the map (%.0f x %.0f m around (%.2f, %.2f))",
-                  goal.x, goal.y, params_.grid.size, params_.grid.size, grid_.originX() + 0.5 * params_.grid.size,
+    std::snprintf(text, sizeof(text),
+                  "goal refused: (%.2f, %.2f) lies outside the map (%.0f x %.0f m around (%.2f, %.2f))", goal.x, goal.y,
+                  params_.grid.size, params_.grid.size, grid_.originX() + 0.5 * params_.grid.size,
                   grid_.originY() + 0.5 * params_.grid.size);
     end(NavState::ABORTED, text);
     return out_.reason;
@@ -149,6 +148,14 @@ bool Navigator::noPose(double now, const std::string& why)
     stop_pending_ = false;
   }
   return true;
+}
+
+const NavOutput& Navigator::endNow(NavState state, const std::string& reason)
+{
+  end(state, reason);
+  out_.command = true;  // the stop goes out with this step's output
+  stop_pending_ = false;
+  return out_;
 }
 
 void Navigator::end(NavState state, const std::string& reason)
@@ -296,12 +303,9 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
   char text[320];
   if (c.mode == FollowMode::ARRIVED)
   {
-    std::snprintf(text, sizeof(text), "goal reached: %.3f m from (%.2f, %.2f) after %.1f s and %.2f m",
-                  c.goal_distance, goal_.x, goal_.y, out_.elapsed, out_.travelled);
-    end(NavState::SUCCEEDED, text);
-    out_.command = true;
-    stop_pending_ = false;
-    return out_;
+    std::snprintf(text, sizeof(text), "goal reached: %.3f m from (%.2f, %.2f) after %.1f s and %.2f m", c.goal_distance,
+                  goal_.x, goal_.y, out_.elapsed, out_.travelled);
+    return endNow(NavState::SUCCEEDED, text);
   }
   if (c.goal_distance < best_distance_ - params_.progress_distance ||
       c.remaining < best_remaining_ - params_.progress_distance)
@@ -315,10 +319,7 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
     std::snprintf(text, sizeof(text),
                   "goal aborted: no progress for %.0f s (%.2f m of path left, %.2f m straight): unreachable from here",
                   params_.progress_timeout, c.remaining, c.goal_distance);
-    end(NavState::ABORTED, text);
-    out_.command = true;
-    stop_pending_ = false;
-    return out_;
+    return endNow(NavState::ABORTED, text);
   }
   const double search = params_.max_detour * goal_distance_ + kSearchAllowance;
   if (out_.travelled > search)
@@ -327,10 +328,7 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
                   "goal aborted: %.2f m driven in search of a way, max_detour x the first straight-line distance "
                   "(%.2f m) + %.1f m (%.2f m of path left): unreachable from here",
                   out_.travelled, goal_distance_, kSearchAllowance, c.remaining);
-    end(NavState::ABORTED, text);
-    out_.command = true;
-    stop_pending_ = false;
-    return out_;
+    return endNow(NavState::ABORTED, text);
   }
   out_.linear = c.linear;
   out_.angular = c.angular;

@@ -16,9 +16,9 @@ namespace sl_navigation
 /// Parameters of the navigator. validate() names the ROS parameter of a bad value.
 struct NavigatorParams
 {
-  GridParams grid;          ///< the persistent map
-  PlannerParams planner;    ///< inflation and costs
-  FollowerParams follower;  ///< driving
+  GridParams grid;                 ///< the persistent map
+  PlannerParams planner;           ///< inflation and costs
+  FollowerParams follower;         ///< driving
   double replan_period = 1.0;      ///< s between replans while the map changes (replan_period)
   double progress_timeout = 30.0;  ///< s without getting progress_distance nearer: aborted (progress_timeout)
   double progress_distance = 0.1;  ///< m of remaining path that count as progress
@@ -28,9 +28,9 @@ struct NavigatorParams
   /// many times the goal's first straight-line distance d (max_detour); a goal not reached after
   /// driving max_detour x d + 1 m is ABORTED (the search for a way is bounded)
   double max_detour = 3.5;
-  double stuck_time = 3.0;         ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
-  double look_around = 0.6;        ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
-  double map_timeout = 2.0;        ///< s without a local map before the robot stops (map_timeout)
+  double stuck_time = 3.0;   ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
+  double look_around = 0.6;  ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
+  double map_timeout = 2.0;  ///< s without a local map before the robot stops (map_timeout)
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -63,15 +63,15 @@ struct NavOutput
 {
   NavState state = NavState::IDLE;
   FollowMode mode = FollowMode::ARRIVED;
-  bool command = false;  ///< true: send (linear, angular); false: send nothing (idle)
-  double linear = 0.0;   ///< m/s
-  double angular = 0.0;  ///< rad/s
-  std::string reason;    ///< a sentence with the numbers
+  bool command = false;       ///< true: send (linear, angular); false: send nothing (idle)
+  double linear = 0.0;        ///< m/s
+  double angular = 0.0;       ///< rad/s
+  std::string reason;         ///< a sentence with the numbers
   bool plan_changed = false;  ///< a new plan was made in this step
   double goal_distance = std::numeric_limits<double>::quiet_NaN();  ///< m, straight line
   double remaining = std::numeric_limits<double>::quiet_NaN();      ///< m of path left
-  double elapsed = 0.0;    ///< s since the goal was accepted
-  double travelled = 0.0;  ///< m driven since the goal was accepted
+  double elapsed = 0.0;                                             ///< s since the goal was accepted
+  double travelled = 0.0;                                           ///< m driven since the goal was accepted
 };
 
 /**
@@ -126,6 +126,8 @@ public:
 
 private:
   void end(NavState state, const std::string& reason);
+  // end() with the stop sent in this step's output; returns it.
+  const NavOutput& endNow(NavState state, const std::string& reason);
   /// Plans anew; with @p force a new plan replaces the current one even when that is still passable.
   bool replan(const Pose& pose, double now, bool force = false);
   void track(const Pose& pose, double now);
@@ -151,14 +153,14 @@ private:
   double progress_time_ = 0.0;
   bool has_last_pose_ = false;
   Pose last_pose_;
-  Pose still_pose_;            // where the robot stood when it was last seen to move
-  double still_since_ = 0.0;   // since when it stands there while told to drive
+  Pose still_pose_;           // where the robot stood when it was last seen to move
+  double still_since_ = 0.0;  // since when it stands there while told to drive
   bool told_to_drive_ = false;
   /// Starts a look-around when the robot does not follow its commands.
   void checkStuck(const Pose& pose, double now);
   /// One step of the look-around; false once it is done.
   bool lookAround(const Pose& pose, double now);
-  int look_step_ = -1;        // -1: not looking around; else the index of the heading turned to
+  int look_step_ = -1;          // -1: not looking around; else the index of the heading turned to
   double look_base_yaw_ = 0.0;  // the heading the look-around started from
   double look_started_ = 0.0;
 };

@@ -42,8 +42,8 @@ class RigError(Exception):
 # key outside them is refused, so that a misspelt optional key does not leave a default in place.
 RIG_KEYS = {
     "": ("format_version", "camera", "projector", "projector_pose", "pattern", "mount", "depth_tables"),
-    "camera": ("width", "height", "K", "D"),
-    "projector": ("width", "height", "K", "D"),
+    "camera": ("width", "height", "K", "D", "focus_distance", "f_number", "pixel_pitch"),
+    "projector": ("width", "height", "K", "D", "focus_distance", "f_number", "pixel_pitch"),
     "projector_pose": ("rotation", "translation"),
     "pattern": ("rows", "cols", "primitive_width", "primitive_height", "gap_x", "gap_y", "offset_x", "offset_y",
                 "flip_x", "flip_y"),

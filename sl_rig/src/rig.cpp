@@ -1,5 +1,6 @@
 #include "sl_rig/rig.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -70,6 +71,13 @@ bool PinholeModel::distorted() const
     if (d != 0.0)
       return true;
   return false;
+}
+
+double LensOptics::defocusDiameter(double f_px, double depth) const
+{
+  const double f = f_px * pixel_pitch;
+  return (f / f_number) * f_px * focus_distance / std::max(focus_distance - f, 1e-6) *
+         std::abs(1.0 / depth - 1.0 / focus_distance);
 }
 
 RigidTransform RigidTransform::inverse() const

@@ -120,10 +120,15 @@ std::vector<double> numbers(const YAML::Node& node, const std::string& name, con
   return out;
 }
 
-PinholeModel readPinhole(const YAML::Node& root, const std::string& name, const std::string& source)
+PinholeModel readPinhole(const YAML::Node& root, const std::string& name, const std::string& source,
+                         LensOptics& optics)
 {
   const YAML::Node n = child(root, name, "", source);
-  checkKeys(n, { "width", "height", "K", "D" }, name, source);
+  checkKeys(n, { "width", "height", "K", "D", "focus_distance", "f_number", "pixel_pitch" }, name, source);
+  // The optics are optional: a rig file without them has the defaults of its device.
+  optics.focus_distance = scalarOr<double>(n, "focus_distance", name, source, optics.focus_distance);
+  optics.f_number = scalarOr<double>(n, "f_number", name, source, optics.f_number);
+  optics.pixel_pitch = scalarOr<double>(n, "pixel_pitch", name, source, optics.pixel_pitch);
   PinholeModel m;
   m.width = scalar<int>(n, "width", name, source);
   m.height = scalar<int>(n, "height", name, source);
@@ -228,12 +233,27 @@ void validatePinhole(const PinholeModel& m, const std::string& name)
   for (double d : m.dist)
     requireThat(std::isfinite(d), name + ".D", "must be finite");
 }
+
+void validateOptics(const LensOptics& o, const PinholeModel& m, const std::string& name)
+{
+  requireThat(std::isfinite(o.pixel_pitch) && o.pixel_pitch > 0.0 && o.pixel_pitch < 1e-3, name + ".pixel_pitch",
+              "must be a pitch in metres, > 0 and < 1 mm");
+  requireThat(std::isfinite(o.f_number) && o.f_number >= 0.5 && o.f_number <= 64.0, name + ".f_number",
+              "must be in 0.5..64");
+  const double focal = std::max(m.fx, m.fy) * o.pixel_pitch;
+  requireThat(std::isfinite(o.focus_distance) && o.focus_distance > 1.5 * focal && o.focus_distance <= 1000.0,
+              name + ".focus_distance",
+              "must be in metres, beyond 1.5 focal lengths (fx * pixel_pitch = " + std::to_string(focal) +
+                  " m) and at most 1000 m");
+}
 }  // namespace
 
 void Rig::validate() const
 {
   validatePinhole(camera, "camera");
   validatePinhole(projector, "projector");
+  validateOptics(camera_optics, camera, "camera");
+  validateOptics(projector_optics, projector, "projector");
   const Eigen::Matrix3d& R = projector_pose.rotation;
   requireThat(R.allFinite(), "projector_pose.rotation", "must be finite");
   const double orthogonality = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
@@ -279,8 +299,8 @@ Rig parseRoot(const YAML::Node& root, const std::string& source)
     fail(source, "format_version", "is " + std::to_string(version) + ", this software reads version 1");
 
   Rig rig;
-  rig.camera = readPinhole(root, "camera", source);
-  rig.projector = readPinhole(root, "projector", source);
+  rig.camera = readPinhole(root, "camera", source, rig.camera_optics);
+  rig.projector = readPinhole(root, "projector", source, rig.projector_optics);
 
   const YAML::Node pose = child(root, "projector_pose", "", source);
   checkKeys(pose, { "rotation", "translation" }, "projector_pose", source);
@@ -377,7 +397,7 @@ void emitNumbers(YAML::Emitter& out, const std::vector<double>& v)
   out << YAML::EndSeq;
 }
 
-void emitPinhole(YAML::Emitter& out, const std::string& name, const PinholeModel& m)
+void emitPinhole(YAML::Emitter& out, const std::string& name, const PinholeModel& m, const LensOptics& o)
 {
   out << YAML::Key << name << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "width" << YAML::Value << m.width;
@@ -386,6 +406,9 @@ void emitPinhole(YAML::Emitter& out, const std::string& name, const PinholeModel
   emitNumbers(out, { m.fx, 0.0, m.cx, 0.0, m.fy, m.cy, 0.0, 0.0, 1.0 });
   out << YAML::Key << "D" << YAML::Value;
   emitNumbers(out, std::vector<double>(m.dist.begin(), m.dist.end()));
+  out << YAML::Key << "focus_distance" << YAML::Value << exactText(o.focus_distance);
+  out << YAML::Key << "f_number" << YAML::Value << exactText(o.f_number);
+  out << YAML::Key << "pixel_pitch" << YAML::Value << exactText(o.pixel_pitch);
   out << YAML::EndMap;
 }
 
@@ -423,8 +446,8 @@ std::string rigToYaml(const Rig& rig)
   YAML::Emitter out;
   out << YAML::BeginMap;
   out << YAML::Key << "format_version" << YAML::Value << 1;
-  emitPinhole(out, "camera", rig.camera);
-  emitPinhole(out, "projector", rig.projector);
+  emitPinhole(out, "camera", rig.camera, rig.camera_optics);
+  emitPinhole(out, "projector", rig.projector, rig.projector_optics);
   out << YAML::Key << "projector_pose" << YAML::Value << YAML::BeginMap;
   const Eigen::Matrix3d& R = rig.projector_pose.rotation;
   out << YAML::Key << "rotation" << YAML::Value;

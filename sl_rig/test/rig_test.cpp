@@ -190,6 +190,9 @@ TEST(Rig, RoundTripIsExact)
   EXPECT_EQ(back.camera.fx, rig.camera.fx);
   EXPECT_EQ(back.camera.dist, rig.camera.dist);
   EXPECT_EQ(back.mount.rpy, rig.mount.rpy);
+  EXPECT_EQ(back.camera_optics.focus_distance, rig.camera_optics.focus_distance);
+  EXPECT_EQ(back.projector_optics.f_number, rig.projector_optics.f_number);
+  EXPECT_EQ(back.projector_optics.pixel_pitch, rig.projector_optics.pixel_pitch);
   EXPECT_NE(yaml.find("width: 752"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("D: [-0.08, 0.12, 5.0e-04, -3.0e-04, 1.0e-300]"), std::string::npos)
       << "an exponent keeps a '.' (a float to YAML 1.1 readers too):\n"
@@ -254,6 +257,50 @@ TEST(Rig, BadFilesNameTheKey)
     EXPECT_NE(std::string(e.what()).find("/nonexistent/rig.yaml: cannot open"), std::string::npos);
   }
   EXPECT_THROW(saveRig(loadRig(kDefaultRig), "/nonexistent/dir/rig.yaml"), RigFileError);
+}
+
+// Each lens's optics: optional keys of camera and projector, defaults of the devices, checked.
+TEST(Rig, LensOpticsAreReadWithDefaultsAndChecked)
+{
+  const std::string good = readFile(kDefaultRig);
+  const Rig rig = parseRig(good, "test.yaml");
+  EXPECT_EQ(rig.camera_optics.focus_distance, 0.675);
+  EXPECT_EQ(rig.camera_optics.f_number, 1.4);
+  EXPECT_EQ(rig.camera_optics.pixel_pitch, 6.0e-6);
+  EXPECT_EQ(rig.projector_optics.f_number, 1.8);
+  EXPECT_EQ(rig.projector_optics.pixel_pitch, 7.6e-6);
+  // A rig file without them (written before they existed) has the same optics.
+  std::string old = good;
+  for (const char* key : { "focus_distance", "f_number", "pixel_pitch" })
+    for (int i = 0; i < 2; ++i)
+    {
+      const size_t at = old.find(std::string("  ") + key + ":");
+      ASSERT_NE(at, std::string::npos) << key;
+      old.erase(at, old.find('\n', at) + 1 - at);
+    }
+  const Rig defaults = parseRig(old, "old.yaml");
+  EXPECT_EQ(defaults.camera_optics.focus_distance, rig.camera_optics.focus_distance);
+  EXPECT_EQ(defaults.camera_optics.f_number, rig.camera_optics.f_number);
+  EXPECT_EQ(defaults.projector_optics.focus_distance, rig.projector_optics.focus_distance);
+  EXPECT_EQ(defaults.projector_optics.pixel_pitch, rig.projector_optics.pixel_pitch);
+  // Another focus reads back; bad values name the key.
+  EXPECT_EQ(parseRig(replaced(good, "focus_distance: 0.675", "focus_distance: 0.9"), "t").camera_optics.focus_distance,
+            0.9);
+  EXPECT_NE(parseError(replaced(good, "f_number: 1.4", "f_number: 0")).find("camera.f_number: must be in 0.5..64"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "pixel_pitch: 7.6e-6", "pixel_pitch: 7.6")).find("projector.pixel_pitch"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "focus_distance: 0.675", "focus_distance: 0.005"))
+                .find("camera.focus_distance: must be in metres, beyond 1.5 focal lengths"),
+            std::string::npos);
+  EXPECT_NE(parseError(replaced(good, "f_number: 1.8", "f_number: fast")).find("projector.f_number: cannot read"),
+            std::string::npos);
+  // The thin lens: no blur at focus, more nearer than the same step in 1/z farther.
+  const double f_px = rig.camera.fx;
+  EXPECT_EQ(rig.camera_optics.defocusDiameter(f_px, 0.675), 0.0);
+  EXPECT_GT(rig.camera_optics.defocusDiameter(f_px, 0.40), rig.camera_optics.defocusDiameter(f_px, 1.2));
+  // 8.95 mm at f/1.4 focused at 0.675 m, a point at 0.45 m: 6.39 mm * 1492 * 1.0134 * 0.7407 / m = 7.16 px.
+  EXPECT_NEAR(rig.camera_optics.defocusDiameter(f_px, 0.45), 7.16, 0.01);
 }
 
 // A 262144 x 262144 camera overflowed int in the decoder's table sizes and crashed sl_decode.
@@ -340,7 +387,7 @@ TEST(Rig, UnknownKeysAreRefusedNamingTheFileAndKey)
             "test.yaml: patterns: unknown key, did you mean 'pattern'? (allowed: camera, depth_tables, format_version, "
             "mount, pattern, projector, projector_pose)");
   EXPECT_EQ(parseError(replaced(good, kCameraK, "  Kx: [1, 0, 1, 0, 1, 1, 0, 0, 1]\n" + kCameraK)),
-            "test.yaml: camera.Kx: unknown key, did you mean 'K'? (allowed: D, K, height, width)");
+            "test.yaml: camera.Kx: unknown key, did you mean 'K'? (allowed: D, K, f_number, focus_distance, height, pixel_pitch, width)");
   EXPECT_EQ(
       parseError(replaced(good, "  flip_y: false", "  flipy: true"))
           .rfind("test.yaml: pattern.flipy: unknown key, did you mean 'flip_y'? (allowed: cols, flip_x, flip_y, ", 0),
@@ -359,7 +406,7 @@ TEST(Rig, UnknownKeysAreRefusedNamingTheFileAndKey)
   EXPECT_EQ(parseError(good + "depth_tables:\n  linear: {a: [], b: [], c: [], rms: []}\n"),
             "test.yaml: depth_tables.linear.c: unknown key (allowed: a, b, rms)");
   EXPECT_EQ(parseError(good + "? [1]\n: 2\n"),
-            "test.yaml: [1]: a key must be a name, not a list or a mapping (line 54)");
+            "test.yaml: [1]: a key must be a name, not a list or a mapping (line 62)");
 
   // From a file: the message starts with its path.
   const std::string path = ::testing::TempDir() + "/sl_rig_unknown_key.yaml";

@@ -51,6 +51,14 @@ Renderer::Impl::Impl(const sl_projector::Rig& r, const SimSettings& s) : rig(r),
   {
     throw std::invalid_argument(std::string("rig: ") + e.what());
   }
+  // The lenses are the rig's unless a setting overrides them (settings() reports the values used).
+  auto orRig = [](double& setting, double rig_value) { setting = setting > 0.0 ? setting : rig_value; };
+  orRig(settings.projector_focus_distance, rig.projector_optics.focus_distance);
+  orRig(settings.projector_f_number, rig.projector_optics.f_number);
+  orRig(settings.projector_pixel_size, rig.projector_optics.pixel_pitch);
+  orRig(settings.camera_focus_distance, rig.camera_optics.focus_distance);
+  orRig(settings.camera_f_number, rig.camera_optics.f_number);
+  orRig(settings.camera_pixel_size, rig.camera_optics.pixel_pitch);
   W = rig.camera.width;
   H = rig.camera.height;
   Wp = rig.projector.width;
@@ -206,10 +214,10 @@ void Renderer::Impl::buildProjector()
   // Thin lens: the blur circle's diameter on the sensor, in px, is
   //   A f_px z_f / (z_f - f) |1/z - 1/z_f|, aperture A = f / N, focal length f = f_px * pitch;
   // a disc of diameter b has the second moment of a Gaussian of sigma b / 4.
-  auto defocusK = [](double f_px, double pitch, double n, double focus)
+  auto defocusK = [&s](double f_px, double pitch, double n, double focus)
   {
     const double f = f_px * pitch;
-    return (f / n) * f_px * focus / std::max(focus - f, 1e-6) / 4.0;
+    return s.defocus_scale * (f / n) * f_px * focus / std::max(focus - f, 1e-6) / 4.0;
   };
   const double pf = std::sqrt(P.fx * P.fy);
   const double cf = std::sqrt(rig.camera.fx * rig.camera.fy);

@@ -42,14 +42,15 @@ const std::vector<Field>& fields()
     SL_FIELD(projector_black_level, "", "irradiance of a black projector pixel relative to a white one"),
     SL_FIELD(projector_vignetting, "", "projector irradiance at the frame corners relative to the centre"),
     SL_FIELD(ambient, "", "ambient irradiance, in units of projector_power"),
-    SL_FIELD(projector_focus_distance, "m", "projector focus distance"),
-    SL_FIELD(projector_f_number, "", "projector lens f-number"),
-    SL_FIELD(projector_pixel_size, "m", "projector mirror pitch"),
+    SL_FIELD(projector_focus_distance, "m", "projector focus distance (0: the rig's)"),
+    SL_FIELD(projector_f_number, "", "projector lens f-number (0: the rig's)"),
+    SL_FIELD(projector_pixel_size, "m", "projector mirror pitch (0: the rig's)"),
     SL_FIELD(projector_base_blur, "projector px", "projector blur at focus (Gaussian sigma)"),
-    SL_FIELD(camera_focus_distance, "m", "camera focus distance"),
-    SL_FIELD(camera_f_number, "", "camera lens f-number"),
-    SL_FIELD(camera_pixel_size, "m", "camera pixel pitch"),
+    SL_FIELD(camera_focus_distance, "m", "camera focus distance (0: the rig's)"),
+    SL_FIELD(camera_f_number, "", "camera lens f-number (0: the rig's)"),
+    SL_FIELD(camera_pixel_size, "m", "camera pixel pitch (0: the rig's)"),
     SL_FIELD(camera_base_blur, "camera px", "camera blur at focus (Gaussian sigma)"),
+    SL_FIELD(defocus_scale, "", "factor on both lenses' defocus blur (1: the rig's optics as they are)"),
     SL_FIELD(defocus, "", "thin-lens defocus blur of projector and camera"),
     SL_FIELD(shadows, "", "projector shadows: points the projector cannot see get no pattern"),
     SL_FIELD(irradiance_falloff, "", "projector irradiance falls with distance squared and incidence cosine"),
@@ -149,15 +150,16 @@ void SimSettings::validate() const
   require(finitePositive(projector_vignetting) && projector_vignetting <= 1.0,
           "projector_vignetting: must be in (0, 1]");
   require(nonNegative(ambient), "ambient: must be >= 0");
-  require(finitePositive(projector_focus_distance), "projector_focus_distance: must be > 0 m");
-  require(finitePositive(projector_f_number), "projector_f_number: must be > 0");
-  require(finitePositive(projector_pixel_size) && projector_pixel_size < 1e-3,
-          "projector_pixel_size: must be a pitch in metres, > 0 and < 1 mm");
+  require(nonNegative(projector_focus_distance), "projector_focus_distance: must be > 0 m (0: the rig's)");
+  require(nonNegative(projector_f_number), "projector_f_number: must be > 0 (0: the rig's)");
+  require(nonNegative(projector_pixel_size) && projector_pixel_size < 1e-3,
+          "projector_pixel_size: must be a pitch in metres, < 1 mm (0: the rig's)");
   require(inRange(projector_base_blur, 0.0, 20.0), "projector_base_blur: must be in 0..20 px");
-  require(finitePositive(camera_focus_distance), "camera_focus_distance: must be > 0 m");
-  require(finitePositive(camera_f_number), "camera_f_number: must be > 0");
-  require(finitePositive(camera_pixel_size) && camera_pixel_size < 1e-3,
-          "camera_pixel_size: must be a pitch in metres, > 0 and < 1 mm");
+  require(nonNegative(camera_focus_distance), "camera_focus_distance: must be > 0 m (0: the rig's)");
+  require(nonNegative(camera_f_number), "camera_f_number: must be > 0 (0: the rig's)");
+  require(nonNegative(camera_pixel_size) && camera_pixel_size < 1e-3,
+          "camera_pixel_size: must be a pitch in metres, < 1 mm (0: the rig's)");
+  require(inRange(defocus_scale, 0.0, 100.0), "defocus_scale: must be in 0..100");
   require(inRange(camera_base_blur, 0.0, 20.0), "camera_base_blur: must be in 0..20 px");
   require(antialias == 1 || antialias == 4 || antialias == 16, "antialias: must be 1, 4 or 16");
   require(finitePositive(vignetting) && vignetting <= 1.0, "vignetting: must be in (0, 1]");

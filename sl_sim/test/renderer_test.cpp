@@ -475,6 +475,36 @@ TEST(Renderer, AShinyMetalBinSaturates)
   EXPECT_EQ(cv::countNonZero(matte.image == 255), 0);
 }
 
+// The lenses are the rig's (so the decoder, reading the same rig, expects the blur rendered); a
+// setting overrides them, defocus_scale scales both defocus blurs.
+TEST(Renderer, OpticsComeFromTheRig)
+{
+  const SimFixture s;
+  sl_projector::Rig rig = s.rig;
+  rig.camera_optics.focus_distance = 0.5;
+  rig.projector_optics.focus_distance = 0.8;
+  rig.camera_optics.f_number = 2.8;
+  const Renderer r(rig);
+  EXPECT_EQ(r.settings().camera_focus_distance, 0.5);
+  EXPECT_EQ(r.settings().camera_f_number, 2.8);
+  EXPECT_EQ(r.settings().projector_focus_distance, 0.8);
+  EXPECT_EQ(r.settings().projector_pixel_size, 7.6e-6);
+  EXPECT_NEAR(r.cameraBlurSigma(0.5), 0.3, 1e-9);
+  EXPECT_NEAR(r.projectorBlurSigma(0.8), 0.3, 1e-9);
+  // sigma = sqrt(base^2 + (diameter / 4)^2), the diameter of the rig's thin lens.
+  const double d = rig.camera_optics.defocusDiameter(std::sqrt(rig.camera.fx * rig.camera.fy), 0.35) / 4.0;
+  EXPECT_NEAR(r.cameraBlurSigma(0.35), std::sqrt(0.09 + d * d), 1e-9);
+  SimSettings settings;
+  settings.defocus_scale = 1.5;
+  settings.camera_focus_distance = 0.6;
+  const Renderer scaled(rig, settings);
+  EXPECT_EQ(scaled.settings().camera_focus_distance, 0.6);
+  sl_projector::LensOptics at06 = rig.camera_optics;
+  at06.focus_distance = 0.6;
+  const double d_scaled = 1.5 * at06.defocusDiameter(std::sqrt(rig.camera.fx * rig.camera.fy), 0.35) / 4.0;
+  EXPECT_NEAR(scaled.cameraBlurSigma(0.35), std::sqrt(0.09 + d_scaled * d_scaled), 1e-9);
+}
+
 TEST(Renderer, DefocusGrowsAwayFromTheFocusDistance)
 {
   const SimFixture s;

@@ -26,7 +26,7 @@ TEST(SimSettings, EveryFieldIsListedOnceAndReadableByName)
   }
   for (const char* n : { "ambient", "noise", "exposure", "gamma", "antialias", "defocus", "vignetting", "glare",
                          "full_well", "read_noise", "projector_power", "projector_black_level", "projector_f_number",
-                         "camera_f_number", "projector_focus_distance", "camera_focus_distance" })
+                         "camera_f_number", "projector_focus_distance", "camera_focus_distance", "defocus_scale" })
     EXPECT_EQ(names.count(n), 1u) << n;
   EXPECT_DOUBLE_EQ(getSimSetting(d, "ambient"), d.ambient);
   EXPECT_DOUBLE_EQ(getSimSetting(d, "noise"), 1.0);
@@ -56,11 +56,12 @@ TEST(SimSettings, InvalidValuesNameTheField)
   const Case cases[] = { { "ambient", -0.1 },
                          { "projector_black_level", 1.5 },
                          { "projector_vignetting", 0.0 },
-                         { "projector_focus_distance", 0.0 },
+                         { "projector_focus_distance", -0.5 },
                          { "projector_f_number", -1.0 },
                          { "projector_pixel_size", 0.01 },
-                         { "camera_f_number", 0.0 },
-                         { "camera_pixel_size", 0.0 },
+                         { "camera_f_number", -1.0 },
+                         { "camera_pixel_size", -1e-6 },
+                         { "defocus_scale", -0.5 },
                          { "camera_base_blur", -1.0 },
                          { "antialias", 3.0 },
                          { "vignetting", 1.2 },

@@ -64,6 +64,26 @@ struct PinholeModel
   bool distorted() const;
 };
 
+/**
+ * @brief The optics of a lens as the thin-lens model sees them: where it is focused, its aperture
+ * and the pitch that turns its focal length from pixels into metres.
+ *
+ * A point at depth z (along the optical axis) is blurred into a disc of diameter
+ * `(f / N) * f_px * z_f / (z_f - f) * |1/z - 1/z_f|` px, with f = f_px * pixel_pitch the focal
+ * length in metres (defocusDiameter()). The simulator renders with these and the
+ * decoder expects the blur they give.
+ */
+struct LensOptics
+{
+  double focus_distance = 0.675;  ///< depth the lens is focused at, m
+  double f_number = 1.4;          ///< focal length / aperture diameter
+  double pixel_pitch = 6.0e-6;    ///< size of one pixel (sensor or projector mirror), m
+
+  /// @brief Thin-lens blur circle diameter, px, of a point at depth @p depth m for a lens of
+  /// focal length @p f_px px. 0 at the focus distance.
+  double defocusDiameter(double f_px, double depth) const;
+};
+
 /// @brief A rigid transform: p_parent = rotation * p_child + translation (metres).
 struct RigidTransform
 {
@@ -125,6 +145,10 @@ struct Rig
   PatternConfig pattern;          ///< the projected pattern
   Mount mount;                    ///< camera on the robot
   DepthTables tables;             ///< optional plane-calibration tables
+  /// Camera lens optics (rig file: `camera.focus_distance`, `camera.f_number`, `camera.pixel_pitch`).
+  LensOptics camera_optics;
+  /// Projector lens optics (rig file: `projector.*`); a DLP pico projector's defaults.
+  LensOptics projector_optics{ 0.675, 1.8, 7.6e-6 };
 
   /// @brief Projector centre in the camera optical frame, m.
   Eigen::Vector3d projectorCentre() const { return projector_pose.translation; }
@@ -149,7 +173,8 @@ struct Rig
    * @brief Checks the rig for consistency.
    *
    * Camera and projector images must be at most kMaxImageSide px a side and kMaxImagePixels px in
-   * all (limits.h); the pattern as PatternConfig::validate().
+   * all (limits.h); the pattern as PatternConfig::validate(); each lens's optics finite, the
+   * focus distance beyond the focal length.
    * @throws std::invalid_argument naming the offending key (e.g. "projector_pose.rotation").
    */
   void validate() const;

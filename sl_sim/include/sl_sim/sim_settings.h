@@ -33,23 +33,27 @@ struct SimSettings
   /// Ambient irradiance (everywhere, no shadows), in units of projector_power.
   double ambient = 0.05;
 
-  // Optics.
-  /// Projector focus distance (along its optical axis), m.
-  double projector_focus_distance = 0.675;
-  /// Projector lens f-number (aperture diameter = focal length / f-number).
-  double projector_f_number = 1.8;
-  /// Projector mirror pitch, m (focal length = fx * pitch).
-  double projector_pixel_size = 7.6e-6;
+  // Optics. The lenses' focus distance, f-number and pixel pitch are the rig's (LensOptics, rig
+  // file keys camera.* and projector.*), so the decoder expects the blur the simulator renders;
+  // a value > 0 here overrides the rig's (0: the rig's).
+  /// Projector focus distance (along its optical axis), m; 0: the rig's.
+  double projector_focus_distance = 0.0;
+  /// Projector lens f-number (aperture diameter = focal length / f-number); 0: the rig's.
+  double projector_f_number = 0.0;
+  /// Projector mirror pitch, m (focal length = fx * pitch); 0: the rig's.
+  double projector_pixel_size = 0.0;
   /// Blur of the projector at focus (Gaussian sigma), projector px.
   double projector_base_blur = 0.3;
-  /// Camera focus distance (depth along the optical axis), m.
-  double camera_focus_distance = 0.675;
-  /// Camera lens f-number.
-  double camera_f_number = 1.4;
-  /// Camera pixel pitch, m.
-  double camera_pixel_size = 6.0e-6;
+  /// Camera focus distance (depth along the optical axis), m; 0: the rig's.
+  double camera_focus_distance = 0.0;
+  /// Camera lens f-number; 0: the rig's.
+  double camera_f_number = 0.0;
+  /// Camera pixel pitch, m; 0: the rig's.
+  double camera_pixel_size = 0.0;
   /// Blur of the camera at focus (Gaussian sigma), camera px.
   double camera_base_blur = 0.3;
+  /// Factor on both lenses' defocus blur: optics unlike what the rig file says (1: as it says).
+  double defocus_scale = 1.0;
   /// Thin-lens defocus blur of projector and camera away from their focus distances.
   bool defocus = true;
   /// The projector's shadows: a point the projector cannot see (an object between them) gets no

@@ -1,6 +1,7 @@
 #include "sl_evaluation/evaluation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <dirent.h>
 #include <stdexcept>
@@ -28,6 +29,20 @@ void EvalStats::add(const EvalStats& o)
   max_abs_error = std::max(max_abs_error, o.max_abs_error);
   with_depth += o.with_depth;
   abs_errors.insert(abs_errors.end(), o.abs_errors.begin(), o.abs_errors.end());
+  decode_seconds.insert(decode_seconds.end(), o.decode_seconds.begin(), o.decode_seconds.end());
+}
+
+double EvalStats::decodeMs() const
+{
+  if (decode_seconds.empty())
+    return 0.0;
+  std::vector<float> t = decode_seconds;
+  const size_t n = t.size() / 2;
+  std::nth_element(t.begin(), t.begin() + static_cast<long>(n), t.end());
+  double m = t[n];
+  if (t.size() % 2 == 0)
+    m = 0.5 * (m + *std::max_element(t.begin(), t.begin() + static_cast<long>(n)));
+  return 1000.0 * m;
 }
 
 double EvalStats::errorPercentileMm(double percent) const
@@ -219,10 +234,22 @@ SceneReport evaluateScene(const sl_projector::Rig& rig, const sl_sim::Scene& sce
   for (int f = 0; f < frames; ++f)
   {
     renderer.render(scene, pattern, camera, seed + static_cast<uint64_t>(f), truth);
+    if (f == 0)
+      decoder.decode(truth.image, result);  // warm-up, not timed
+    const auto start = std::chrono::steady_clock::now();
     decoder.decode(truth.image, result);
-    report.stats.add(evaluateFrame(decoder.pattern(), truth, result));
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+    EvalStats s = evaluateFrame(decoder.pattern(), truth, result);
+    s.decode_seconds.push_back(static_cast<float>(took.count()));
+    report.stats.add(s);
   }
   return report;
+}
+
+const std::vector<double>& nearFarDistances()
+{
+  static const std::vector<double> d{ 0.35, 0.40, 0.45, 0.55, 0.70, 0.90, 1.20 };
+  return d;
 }
 
 sl_sim::Scene planeScene(const sl_projector::Rig& rig, double camera_distance, double albedo)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <sys/stat.h>
@@ -362,4 +363,37 @@ TEST(SlEval, PlotsValidPercentAndErrorAgainstDistance)
         << "max error at " << max.points[k];
   }
   std::remove(path.c_str());
+}
+
+// sl_eval for another rig file: the near rows and the far planes, with the decode time; a defocus
+// scale out of range is refused naming the option, before the run.
+TEST(SlEval, PrintsTheNearAndFarRowsForARigFile)
+{
+  const std::string bin = SL_EVAL_BIN;
+  const std::string rig = std::string(SL_EVALUATION_TEST_DIR) + "/rigs/left_rig.yaml";
+  std::string out;
+  ASSERT_EQ(sl_testing::run(bin + " --rig " + rig + " --near-far --defocus-scale 1.2 --frames 1", out), 0) << out;
+  EXPECT_NE(out.find("dec_ms"), std::string::npos) << out;
+  for (const char* row : { "near_plane_350 ", "near_plane_400 ", "near_plane_450 ", "near_plane_550 ",
+                           "near_plane_700 ", "near_plane_900 ", "near_plane_1200 " })
+    EXPECT_NE(out.find(row), std::string::npos) << row << " missing in\n" << out;
+  EXPECT_NE(out.find("all scenes (triangulation): 7 frames"), std::string::npos) << out;
+  // Each row ends in the decode time: ten columns, the last a positive number of ms.
+  const size_t at = out.find("\nnear_plane_400 ");  // the row, not the progress line
+  ASSERT_NE(at, std::string::npos);
+  std::istringstream row(out.substr(at + 1, out.find('\n', at + 1) - at - 1));
+  std::vector<std::string> columns;
+  for (std::string c; row >> c;)
+    columns.push_back(c);
+  ASSERT_EQ(columns.size(), 10u) << out;
+  EXPECT_GT(std::stod(columns.back()), 0.0) << out;
+  EXPECT_EQ(std::stoi(columns[5]), 0) << "wrong correspondences: " << out;
+
+  out.clear();
+  EXPECT_EQ(sl_testing::run(bin + " --rig " + rig + " --near-far --defocus-scale 5", out), 2);
+  EXPECT_NE(out.find("--defocus-scale: must be 0.1 to 4"), std::string::npos) << out;
+  EXPECT_EQ(out.find("scene 1 of"), std::string::npos) << out;
+  out.clear();
+  EXPECT_EQ(sl_testing::run(bin + " --rig /no/such/rig.yaml --plane 0.7", out), 2);
+  EXPECT_NE(out.find("/no/such/rig.yaml"), std::string::npos) << out;
 }

@@ -15,19 +15,20 @@ namespace sl_evaluation
 /// @brief Decoding quality of one or more frames.
 struct EvalStats
 {
-  int frames = 0;                 ///< frames added
-  int visible = 0;                ///< primitives the camera sees well enough to decode (ground truth)
-  int identified = 0;             ///< blobs whose shape was identified
-  int decoded = 0;                ///< blobs given a (row, col)
-  int valid = 0;                  ///< 3D points produced
-  int valid_visible = 0;          ///< correct points on visible primitives (the part of valid that visible counts)
-  int wrong = 0;                  ///< points whose (row, col) is not the primitive lighting that pixel
-  int unverifiable = 0;           ///< points where the ground truth has no projector light nearby
-  int near_points = 0;            ///< valid points on surfaces 15+ mm in front of the frame's background
-  double sum_abs_error = 0.0;     ///< sum of |depth error| over points with ground-truth depth, m
-  double max_abs_error = 0.0;     ///< m
-  int with_depth = 0;             ///< points that have a ground-truth depth
-  std::vector<float> abs_errors;  ///< |depth error| of each point that has a ground-truth depth, m
+  int frames = 0;                     ///< frames added
+  int visible = 0;                    ///< primitives the camera sees well enough to decode (ground truth)
+  int identified = 0;                 ///< blobs whose shape was identified
+  int decoded = 0;                    ///< blobs given a (row, col)
+  int valid = 0;                      ///< 3D points produced
+  int valid_visible = 0;              ///< correct points on visible primitives (the part of valid that visible counts)
+  int wrong = 0;                      ///< points whose (row, col) is not the primitive lighting that pixel
+  int unverifiable = 0;               ///< points where the ground truth has no projector light nearby
+  int near_points = 0;                ///< valid points on surfaces 15+ mm in front of the frame's background
+  double sum_abs_error = 0.0;         ///< sum of |depth error| over points with ground-truth depth, m
+  double max_abs_error = 0.0;         ///< m
+  int with_depth = 0;                 ///< points that have a ground-truth depth
+  std::vector<float> abs_errors;      ///< |depth error| of each point that has a ground-truth depth, m
+  std::vector<float> decode_seconds;  ///< time in Decoder::decode per frame, s (evaluateScene; wall clock)
 
   /// @brief Share of the visible primitives that gave a correct point, percent (at most 100; points on
   /// primitives seen only in part, at borders and depth edges, come on top: valid - valid_visible).
@@ -36,6 +37,8 @@ struct EvalStats
   double meanErrorMm() const { return with_depth > 0 ? 1000.0 * sum_abs_error / with_depth : 0.0; }
   /// @brief Max |depth error|, mm.
   double maxErrorMm() const { return 1000.0 * max_abs_error; }
+  /// @brief Median decode time per frame, ms (robust to other jobs on a shared machine); 0 when not timed.
+  double decodeMs() const;
   /**
    * @brief |depth error| that @p percent % of the points with ground-truth depth do not exceed, mm
    * (nearest rank: 50 the median, 95 the 95th percentile, 100 the max); 0 without such points.
@@ -67,6 +70,10 @@ struct SceneReport
   EvalStats stats;    ///< summed over the frames
 };
 
+/// @brief Camera distances of the near-range rows (0.35, 0.40, 0.45 m) and of the farther planes
+/// they are compared with (0.55, 0.70, 0.90, 1.20 m): sl_eval's `--near-far` planes.
+const std::vector<double>& nearFarDistances();
+
 /**
  * @brief Renders @p scene_path with the default simulator settings for @p frames seeds, decodes
  * each frame with @p config and scores it.
@@ -85,6 +92,8 @@ sl_sim::Scene planeScene(const sl_projector::Rig& rig, double camera_distance, d
 /**
  * @brief As evaluateScene(), for a scene built in code; @p name is reported as the scene.
  * @param seed noise seed of the first frame (frame f uses seed + f).
+ * The first frame is decoded once untimed (warm-up: the decoder's buffers grow to size), then every
+ * frame's decode is timed into EvalStats::decode_seconds.
  */
 SceneReport evaluateScene(const sl_projector::Rig& rig, const sl_sim::Scene& scene, const std::string& name,
                           const sl_decoder::DecoderConfig& config, int frames = 1,

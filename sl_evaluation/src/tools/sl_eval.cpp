@@ -1,6 +1,6 @@
-// sl_eval: renders the prototype's test scenes with the simulator, decodes them with every depth
-// model the rig supports and prints a table against the ground truth; --plot draws valid % and depth
-// error against distance as PNG. No ROS master needed.
+// sl_eval: renders the prototype's test scenes (or planes) with the simulator for a rig file, decodes
+// them with every depth model the rig supports and prints a table against the ground truth, with the
+// decode time; --plot draws valid % and depth error against distance as PNG. No ROS master needed.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,13 +18,20 @@
 namespace
 {
 const char* kUsage =
-    "usage: sl_eval [--calibration RIG.yaml] [--frames N] [--seed N] [--ambient X] [--set NAME=VALUE ...]\n"
-    "               [--plane DIST ...] [--plot FILE.png] [SCENE.yaml ...]\n"
+    "usage: sl_eval [--rig RIG.yaml] [--frames N] [--seed N] [--ambient X] [--set NAME=VALUE ...]\n"
+    "               [--defocus-scale S] [--plane DIST ... | --near-far] [--plot FILE.png] [SCENE.yaml ...]\n"
     "  renders each scene (default: the prototype's test scenes in sl_sim/scenes, then the near-range\n"
     "  planes) with the simulator's settings, decodes it with every depth model the rig supports, and\n"
     "  prints per scene: visible primitives, valid %, wrong correspondences, mean and max |depth error|\n"
-    "  (mm), and the points on objects in front of the background.\n"
+    "  (mm), the points on objects in front of the background and the median decode time per frame\n"
+    "  (dec_ms; wall clock, one thread, after one untimed warm-up decode).\n"
+    "  --rig RIG.yaml the rig (calibration) file that renders and decodes (default: the default rig);\n"
+    "                 --calibration is the same option\n"
     "  --plane DIST   a white plane DIST m from the camera (repeatable; instead of the default scenes)\n"
+    "  --near-far     planes at 0.35, 0.40, 0.45 m (near range) and 0.55, 0.70, 0.90, 1.20 m, placed\n"
+    "                 from the rig's camera (instead of the default scenes)\n"
+    "  --defocus-scale S  both lenses' defocus blur times S, 0.1 to 4 (the simulator's defocus_scale:\n"
+    "                 lenses unlike the rig file's optics)\n"
     "  --albedo A     albedo of those planes (default 0.8)\n"
     "  --no-split-merged  decode with the near-range detection off (DecoderConfig::split_merged)\n"
     "  --set N=V      a simulator setting, as in sl_render (repeatable)\n"
@@ -68,6 +75,7 @@ struct Job
 struct Options
 {
   std::string calibration = sl_evaluation::defaultRigFile();
+  bool near_far = false;
   int frames = 3;
   uint64_t seed = 1000;
   sl_sim::SimSettings settings;
@@ -118,8 +126,16 @@ bool parseOptions(int argc, char** argv, Options& o)
   sl_rig::ToolArgs args(argc, argv);
   for (std::string a; args.next(a);)
   {
-    if (a == "--calibration")
+    if (a == "--calibration" || a == "--rig")
       o.calibration = args.value();
+    else if (a == "--defocus-scale")
+    {
+      o.settings.defocus_scale = args.number();
+      if (!(o.settings.defocus_scale >= 0.1 && o.settings.defocus_scale <= 4.0))
+        throw std::invalid_argument("--defocus-scale: must be 0.1 to 4");
+    }
+    else if (a == "--near-far")
+      o.near_far = true;
     else if (a == "--frames")
       o.frames = static_cast<int>(args.integer(1, 1000000));
     else if (a == "--ambient")
@@ -155,6 +171,8 @@ bool parseOptions(int argc, char** argv, Options& o)
     else
       o.scenes.push_back(a);
   }
+  if (o.near_far)
+    o.planes.insert(o.planes.end(), sl_evaluation::nearFarDistances().begin(), sl_evaluation::nearFarDistances().end());
   return true;
 }
 
@@ -192,10 +210,10 @@ std::vector<sl_decoder::DepthMode> depthModels(const sl_projector::Rig& rig)
 void printRow(const sl_evaluation::SceneReport& r)
 {
   const sl_evaluation::EvalStats& s = r.stats;
-  std::printf("%-26s %-13s %7.1f %7.1f %6.1f %6d %9.2f %8.2f %8.1f\n", r.scene.c_str(), r.model.c_str(),
+  std::printf("%-26s %-13s %7.1f %7.1f %6.1f %6d %9.2f %8.2f %8.1f %7.2f\n", r.scene.c_str(), r.model.c_str(),
               static_cast<double>(s.visible) / s.frames, s.validPercent(),
               static_cast<double>(s.valid - s.valid_visible) / s.frames, s.wrong, s.meanErrorMm(), s.maxErrorMm(),
-              static_cast<double>(s.near_points) / s.frames);
+              static_cast<double>(s.near_points) / s.frames, s.decodeMs());
   std::fflush(stdout);
 }
 
@@ -206,8 +224,8 @@ std::vector<sl_evaluation::DistanceResult> runJobs(const Options& o, const std::
 {
   const std::vector<sl_decoder::DepthMode> models = depthModels(rig);
   std::vector<sl_evaluation::DistanceResult> plotted;
-  std::printf("%-26s %-13s %7s %7s %6s %6s %9s %8s %8s\n", "scene", "model", "visible", "valid%", "extra", "wrong",
-              "mean_mm", "max_mm", "near_pts");
+  std::printf("%-26s %-13s %7s %7s %6s %6s %9s %8s %8s %7s\n", "scene", "model", "visible", "valid%", "extra", "wrong",
+              "mean_mm", "max_mm", "near_pts", "dec_ms");
   sl_evaluation::EvalStats total;
   for (size_t j = 0; j < jobs.size(); ++j)
   {

@@ -187,7 +187,7 @@ int main(int argc, char** argv)
                 << "/plane_calibrated.yaml --out " << out_dir << "/calibrated.yaml --board " << board.cols << "x"
                 << board.rows << " --square " << board.square << board_args << pose_args << "\n\n"
                 << "evaluation:\n  rosrun sl_evaluation sl_calibrate_sim evaluate --calibration " << out_dir
-                << "/calibrated.yaml\n";
+                << "/calibrated.yaml" << (rig_path == defaultRigFile() ? "" : " --rig " + rig_path) << "\n";
       return 0;
     }
     if (command == "evaluate")

@@ -216,6 +216,18 @@ void Decoder::sizeMedians(const std::vector<Blob>& blobs, float* median_w, float
   }
 }
 
+float Decoder::borderCut(const Blob& b, float typical_w, float typical_h) const
+{
+  // A blob at the image's border that is smaller across it than the typical blob is cut by it: its
+  // centroid lies off by up to half the missing part.
+  float cut = 0.f;
+  if (b.x0 <= 0 || b.x1 >= rig_.camera.width)
+    cut = std::max(cut, 0.5f * (typical_w - static_cast<float>(b.width())));
+  if (b.y0 <= 0 || b.y1 >= rig_.camera.height)
+    cut = std::max(cut, 0.5f * (typical_h - static_cast<float>(b.height())));
+  return cut;
+}
+
 void Decoder::findCandidates(DecodeResult& result)
 {
   const std::vector<Blob>& blobs = result.blobs;
@@ -223,6 +235,7 @@ void Decoder::findCandidates(DecodeResult& result)
   rays_.resize(blobs.size());
   units_.resize(blobs.size());
   typical_.resize(blobs.size());
+  cut_.resize(blobs.size());
   ranges_.resize(blobs.size());
   // A primitive cut by an occlusion or the floor, or merged with a neighbour, has an odd size and
   // a biased centroid: it gets no candidates (it can still be seen as a neighbour).
@@ -240,6 +253,7 @@ void Decoder::findCandidates(DecodeResult& result)
     const float mw = median_w[levelOf(b)], mh = median_h[levelOf(b)];
     typical_[bi] = b.shape != 0 && !(std::abs(static_cast<float>(b.width()) - mw) > dev * mw + 1.f ||
                                      std::abs(static_cast<float>(b.height()) - mh) > dev * mh + 1.f);
+    cut_[bi] = typical_[bi] ? borderCut(b, mw, mh) : 0.f;
     if (!typical_[bi])
       continue;
     rays_[bi] = index_->cameraRay(b.u, b.v);
@@ -518,11 +532,13 @@ inline int Decoder::bestSupported(int blob, uint8_t discriminating, uint8_t conf
   if (ties > 0 || confirm < 1 || !c.tight)
     return -1;
   // A rival only one support short that fits the epipolar geometry about as well (or better) is
-  // not ruled out: a blob's biased centroid or one false witness could make that difference.
+  // not ruled out: a blob's biased centroid or one false witness could make that difference. The
+  // centroid of a blob cut by the image border may be off by its cut, too.
+  const float rival_margin = kRivalEpipolarMargin + cut_[static_cast<size_t>(blob)];
   for (int32_t k = k0; k < k1; ++k)
   {
     const Candidate& r = cands_[static_cast<size_t>(k)];
-    if (k != best && popcount4(r.bits) >= best_support - 1 && r.epipolar <= c.epipolar + kRivalEpipolarMargin)
+    if (k != best && popcount4(r.bits) >= best_support - 1 && r.epipolar <= c.epipolar + rival_margin)
       return -1;
   }
   if (!unique && (discr < 1 || best_support < config_.min_support))
@@ -764,7 +780,9 @@ void Decoder::finishLabels(DecodeResult& result)
       else
         ++disagree;
     }
-    if (disagree > 0 && disagree >= agree)
+    // A part of a merged row or a band cell needs a decoded neighbour that agrees: alone, a few
+    // misread shapes around it can spell a wrong column (it is never the only light there).
+    if ((disagree > 0 && disagree >= agree) || (blobs[i].level > 0 && agree == 0))
       blobs[i].support = -1;  // mark; applied below so the check is order independent
   }
   for (size_t i = 0; i < blobs.size(); ++i)

@@ -121,6 +121,9 @@ private:
   /// Maps a cell read from a saturated band's outline into pattern terms and moves it to its centroid.
   void placeBandCell(Blob& b) const;
   /// Step 4: the candidates of every blob of typical size (cand_begin_, cands_, rays_).
+  /// How far the centroid of a blob cut by the image border may be off, px (0 when it is whole);
+  /// @p typical_w, @p typical_h: the typical blob's size.
+  float borderCut(const Blob& b, float typical_w, float typical_h) const;
   void findCandidates(DecodeResult& result);
   /// The median box width and height of the identified blobs of each level (0 for none).
   void sizeMedians(const std::vector<Blob>& blobs, float* median_w, float* median_h);
@@ -223,6 +226,7 @@ private:
   std::vector<Eigen::Vector3d> rays_;   // blob -> cameraRay of its centroid (typical_ blobs)
   std::vector<Eigen::Vector3d> units_;  // blob -> that ray normalised (typical_ blobs)
   std::vector<uint8_t> typical_;        // blob -> identified and of typical size: has candidates
+  std::vector<float> cut_;              // blob -> borderCut() (typical_ blobs), px
   std::vector<std::pair<const int32_t*, const int32_t*>> ranges_;  // blob -> EpipolarIndex::candidates()
   struct GridItem
   {

@@ -1,6 +1,8 @@
 // Decoder speed on rendered 752 x 480 frames, per stage and in total, on one core; also decode plus
-// the per-ray outcomes (RayClassifier), and the decode against one labelling pass (ratio).
+// the per-ray outcomes (RayClassifier), the decode against one labelling pass (ratio), and near-range
+// planes against the 0.70 m plane (ratio; `--rig FILE` for another rig).
 //   rosrun sl_evaluation sl_decoder_benchmark --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
+#include <iostream>
 #include <stdexcept>
 #include <string>
 
@@ -111,6 +113,51 @@ void BM_DecodeVsLabellingPlane700(benchmark::State& state)
   state.counters["ratio"] = decode_ms / label_ms;
 }
 
+/// The rig of the near-range benchmarks: the default rig, or `--rig FILE` before the benchmark flags.
+std::string& nearRigFile()
+{
+  static std::string file = sl_evaluation::defaultRigFile();
+  return file;
+}
+
+/// The decode of a plane state.range(0) mm from the camera against the plane 700 mm from it (both
+/// placed by planeScene for the rig of nearRigFile()), one after the other in every iteration, so that
+/// a noisy machine slows both alike; ratio = near / 700 mm.
+void BM_DecodeNearVsPlane700(benchmark::State& state)
+{
+  cv::setNumThreads(1);
+  const sl_projector::Rig rig = sl_projector::loadRig(nearRigFile());
+  sl_decoder::Decoder decoder(rig);
+  sl_sim::Renderer renderer(rig);
+  sl_sim::RenderOutput near, far;
+  const cv::Mat pattern = decoder.pattern().render();
+  const double distance = static_cast<double>(state.range(0)) / 1000.0;
+  renderer.render(sl_evaluation::planeScene(rig, distance), pattern, sl_sim::cameraPoseInWorld(rig), 7, near);
+  renderer.render(sl_evaluation::planeScene(rig, 0.70), pattern, sl_sim::cameraPoseInWorld(rig), 7, far);
+  sl_decoder::DecodeResult near_result, far_result;
+  decoder.decode(near.image, near_result);  // warm-up: buffers reach their size
+  decoder.decode(far.image, far_result);
+  double near_ms = 0.0, far_ms = 0.0;
+  for (auto _ : state)
+  {
+    auto t0 = std::chrono::steady_clock::now();
+    decoder.decode(near.image, near_result);
+    benchmark::DoNotOptimize(near_result.valid);
+    auto t1 = std::chrono::steady_clock::now();
+    decoder.decode(far.image, far_result);
+    benchmark::DoNotOptimize(far_result.valid);
+    auto t2 = std::chrono::steady_clock::now();
+    near_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    far_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["near_ms"] = near_ms / n;
+  state.counters["far_ms"] = far_ms / n;
+  state.counters["ratio"] = near_ms / far_ms;
+  state.counters["near_points"] = near_result.valid;
+  state.counters["far_points"] = far_result.valid;
+}
+
 void BM_DecodePlane700(benchmark::State& state)
 {
   decodeScene(state, { "plane_700" });
@@ -134,4 +181,41 @@ BENCHMARK(BM_DecodePlane700)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeRoomView)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeAndRaysPlane700)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeAndRaysRoomView)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+BENCHMARK(BM_DecodeNearVsPlane700)->Arg(350)->Arg(400)->Arg(450)->Unit(benchmark::kMillisecond);
+
+int main(int argc, char** argv)
+{
+  // `--rig FILE` (or --rig=FILE) sets the rig of the near-range benchmarks; the rest is Google Benchmark's.
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--rig" || a.rfind("--rig=", 0) == 0)
+    {
+      if (a == "--rig" && i + 1 >= argc)
+      {
+        std::cerr << "sl_decoder_benchmark: --rig needs a rig file\n";
+        return 2;
+      }
+      nearRigFile() = a == "--rig" ? argv[++i] : a.substr(6);
+      continue;
+    }
+    args.push_back(argv[i]);
+  }
+  try
+  {
+    sl_projector::loadRig(nearRigFile());
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "sl_decoder_benchmark: --rig: " << e.what() << "\n";
+    return 2;
+  }
+  int n = static_cast<int>(args.size());
+  benchmark::Initialize(&n, args.data());
+  if (benchmark::ReportUnrecognizedArguments(n, args.data()))
+    return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

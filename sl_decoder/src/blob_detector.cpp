@@ -518,7 +518,8 @@ bool BlobDetector::cutByPitch(const cv::Mat& image, const Blob& part, int thresh
 {
   // Saturated bridges do not split at any threshold: a row of primitives one pattern row tall is
   // cut into equal pieces of the pattern's pitch (their shapes and centroids are checked later).
-  if (part.height() > 1.4 * primitive_h_ || pitch_ <= 0.0)
+  // A tilted row is one row tall along its tilt.
+  if (part.height() > 1.4 * primitive_h_ + std::abs(slope_) * part.width() || pitch_ <= 0.0)
     return false;
   // k primitives merged span (k - 1) pitches plus one primitive (widened by the bridges' light).
   const double w = part.width();
@@ -532,8 +533,11 @@ bool BlobDetector::cutByPitch(const cv::Mat& image, const Blob& part, int thresh
     const double c = first + i * pitch_;
     piece.x0 = std::max(part.x0, static_cast<int>(std::lround(c - 0.5 * pitch_)));
     piece.x1 = std::min(part.x1, static_cast<int>(std::lround(c + 0.5 * pitch_)));
-    piece.y0 = part.y0;
-    piece.y1 = part.y1;
+    // Its rows: the part's, along its tilt (the height it would have untilted, around its centre line).
+    const double line = 0.5 * (part.y0 + part.y1) + slope_ * (c - 0.5 * (part.x0 + part.x1));
+    const double half = 0.5 * (part.height() - std::abs(slope_) * part.width());
+    piece.y0 = std::max(part.y0, static_cast<int>(std::floor(line - half)));
+    piece.y1 = std::min(part.y1, static_cast<int>(std::ceil(line + half)));
     for (int y = piece.y0; y < piece.y1; ++y)
     {
       const uint8_t* row = image.ptr<uint8_t>(y);
@@ -578,16 +582,18 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
   // centroids): the phase of that periodic profile places them. Each shape has exactly one
   // lopsided band at the top or the bottom (1: W L R, 2: W R L, 3: L R W, 4: R L W), so which edge
   // is lopsided, and to which side, names the shape.
-  if (pitch_ <= 0.0 || band.width() < 3 * pitch_ || band.height() > 2.0 * primitive_h_)
+  // A tilted band is followed along its tilt.
+  if (pitch_ <= 0.0 || band.width() < 3 * pitch_ || band.height() > 2.0 * primitive_h_ + std::abs(slope_) * band.width())
     return;
   const int n = band.width();
-  const int y_mid = (band.y0 + band.y1) / 2;
+  const double x_centre = 0.5 * (band.x0 + band.x1 - 1), y_centre = 0.5 * (band.y0 + band.y1);
   const int reach = static_cast<int>(std::ceil(primitive_h_));
   top_.resize(static_cast<size_t>(n));
   bottom_.resize(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i)
   {
     const int x = band.x0 + i;
+    const int y_mid = std::min(band.y1 - 1, std::max(band.y0, static_cast<int>(y_centre + slope_ * (x - x_centre))));
     top_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, -1, reach, t);
     bottom_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, 1, reach, t);
   }
@@ -629,11 +635,13 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
     if (c - half < band.x0 || c + half > band.x1)
       continue;
     x = c;  // follow the local phase
-    // Up is negative: a top edge higher on the left is a left top band.
+    // Up is negative: a top edge higher on the left is a left top band. The row's tilt raises the
+    // right window's edges by slope * 0.6 pitch: taken out.
+    const double tilt = slope_ * 0.6 * pitch_;
     const double top_lr =
-        mean(top_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(top_, c + 0.15 * pitch_, c + 0.45 * pitch_);
-    const double bottom_lr =
-        mean(bottom_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(bottom_, c + 0.15 * pitch_, c + 0.45 * pitch_);
+        mean(top_, c - 0.45 * pitch_, c - 0.15 * pitch_) - mean(top_, c + 0.15 * pitch_, c + 0.45 * pitch_) + tilt;
+    const double bottom_lr = mean(bottom_, c - 0.45 * pitch_, c - 0.15 * pitch_) -
+                             mean(bottom_, c + 0.15 * pitch_, c + 0.45 * pitch_) + tilt;
     const double yt = mean(top_, c - 1.0, c + 1.0), yb = mean(bottom_, c - 1.0, c + 1.0);
     if (!std::isfinite(top_lr) || !std::isfinite(bottom_lr) || !std::isfinite(yt) || !std::isfinite(yb))
       continue;

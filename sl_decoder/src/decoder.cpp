@@ -93,7 +93,8 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
   const sl_projector::PatternConfig& pc = rig.pattern;
   detector_.setPrimitiveSize(index_->stepEast().norm() * pc.primitive_width / pc.cellWidth(),
                              index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(),
-                             std::abs(index_->stepEast().x()));
+                             std::abs(index_->stepEast().x()),
+                             std::abs(index_->stepEast().x()) > 1e-6 ? index_->stepEast().y() / index_->stepEast().x() : 0.0);
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
   grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;

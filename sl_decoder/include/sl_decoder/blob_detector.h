@@ -79,13 +79,16 @@ public:
    * @brief The size of one primitive's box in the image (from the rig at the nominal depth), px.
    * Components wider than 1.6 times it are split as merged; split parts may be at most 1.4 times
    * it. @p pitch is the horizontal distance of neighbouring primitives: a row of them merged by
-   * saturated bridges is cut at that pitch. 0 (the default) disables these tests.
+   * saturated bridges is cut at that pitch. 0 (the default) disables these tests. @p slope is the
+   * tilt of the pattern's rows in the image (dy / dx; a rolled projector or camera): a merged row
+   * is followed along it.
    */
-  void setPrimitiveSize(double width, double height, double pitch)
+  void setPrimitiveSize(double width, double height, double pitch, double slope = 0.0)
   {
     primitive_w_ = width;
     primitive_h_ = height;
     pitch_ = pitch;
+    slope_ = slope;
   }
 
   /// @brief Blob::level of primitives read from the outline of a saturated row: their shape and
@@ -223,7 +226,7 @@ private:
   std::vector<int32_t> component_of_;    // per run: its component
   std::vector<int32_t> kept_component_;  // per blob of the last detectBoxes() that is a whole component
   long split_pixels_ = 0;
-  double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0;
+  double primitive_w_ = 0.0, primitive_h_ = 0.0, pitch_ = 0.0, slope_ = 0.0;
   static constexpr int kLastLevel = 5;           // raised thresholds tried before cutting by the pitch
   static constexpr float kBandMinMargin = 0.3f;  // px between the lopsided and the straight edge
   std::vector<float> top_, bottom_;              // outline of a saturated band per column, px

@@ -64,7 +64,9 @@ void FullCalibration::checkSamples(const std::string& name, const std::vector<Pr
 
 void FullCalibration::addCameraView(const std::string& name, const cv::Mat& grey)
 {
-  addCameraCorners(name, findCorners(name, grey));
+  const std::vector<cv::Point2f> corners = findCorners(name, grey);
+  addCameraCorners(name, corners);
+  board_blur_.back() = measureBoardEdgeBlur(grey, board_, corners);
 }
 
 void FullCalibration::addCameraCorners(const std::string& name, const std::vector<cv::Point2f>& corners)
@@ -73,6 +75,7 @@ void FullCalibration::addCameraCorners(const std::string& name, const std::vecto
     throw CalibrationError(name + ": " + std::to_string(corners.size()) + " corners, the board has " +
                            std::to_string(board_.cols * board_.rows));
   board_views_.push_back(BoardView{ name, corners });
+  board_blur_.emplace_back();
 }
 
 std::vector<PrimitiveSample> FullCalibration::decode(const std::string& name, const cv::Mat& grey)
@@ -96,6 +99,7 @@ void FullCalibration::addPlaneView(const std::string& board_name, const cv::Mat&
   const std::vector<PrimitiveSample> samples = decode(pattern_name, pattern_grey);
   checkSamples(pattern_name, samples);
   addPlaneSamples(board_name + " + " + pattern_name, corners, samples);
+  board_blur_.back() = measureBoardEdgeBlur(board_grey, board_, corners);
 }
 
 void FullCalibration::addDistanceView(const std::string& pattern_name, const cv::Mat& pattern_grey, double distance)
@@ -143,6 +147,7 @@ int FullCalibration::planeViews() const
 void FullCalibration::clear()
 {
   board_views_.clear();
+  board_blur_.clear();
   plane_views_.clear();
 }
 
@@ -320,6 +325,11 @@ sl_projector::Rig calibratedRig(sl_projector::Rig rig, const FullCalibrationResu
   rig.camera = out.camera.camera;
   rig.projector = out.projector.projector;
   rig.projector_pose = out.projector.pose;
+  if (out.camera_lens.valid)
+  {
+    rig.camera_optics.focus_distance = out.camera_lens.lens.focus_distance;
+    rig.camera_optics.f_number = out.camera_lens.lens.f_number;
+  }
   try
   {
     rig.validate();
@@ -465,7 +475,16 @@ FullCalibrationResult FullCalibration::calibrate() const
   // 4. Everything together, from the separate fits.
   if (options_.joint_refinement)
     refineJointly(rig, corr, board_poses, out);
-  // 5. The rig with the calibrated models and pose, and the corners' residuals.
+  // 5. The camera lens from the board edges' blur at their depths (final board poses).
+  std::vector<BlurSample> blur;
+  for (size_t i = 0; i < board_blur_.size() && i < out.camera.board_poses.size(); ++i)
+  {
+    const std::vector<BlurSample> b = blurAtDepth(board_blur_[i], out.camera.board_poses[i]);
+    blur.insert(blur.end(), b.begin(), b.end());
+  }
+  out.camera_lens =
+      fitLensOptics(blur, std::sqrt(out.camera.camera.fx * out.camera.camera.fy), rig.camera_optics.pixel_pitch);
+  // 6. The rig with the calibrated models, pose and lens, and the corners' residuals.
   out.rig = calibratedRig(rig, out);
   out.camera_residuals = cornerResiduals(out);
   return out;
@@ -506,6 +525,7 @@ std::string FullCalibrationResult::summary() const
     << ", " << fixed(1000 * t.z(), 2) << "] mm (baseline " << fixed(1000 * t.norm(), 2) << " mm), rotation "
     << fixed(aa.angle() * 180.0 / M_PI, 3) << " deg about [" << fixed(aa.axis().x(), 3) << ", "
     << fixed(aa.axis().y(), 3) << ", " << fixed(aa.axis().z(), 3) << "]\n";
+  o << camera_lens.summary("camera");
   return o.str();
 }
 

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "sl_calibration/full_calibration.h"
+#include "sl_calibration/lens_blur.h"
 #include "sl_evaluation/calibration_simulation.h"
 #include "true_rig.h"
 
@@ -279,4 +280,130 @@ TEST(CalibrationFull, ErrorsForBadInput)
     EXPECT_NE(std::string(e.what()).find("camera calibration needs >= 3 checkerboard views"), std::string::npos)
         << e.what();
   }
+}
+
+namespace
+{
+/// A white card with a 10 x 7 board of @p square m squares, its centre on the camera axis @p depth m
+/// from the camera, facing it turned @p turn_deg about the vertical.
+sl_sim::Scene boardScene(const sl_projector::Rig& rig, double depth, double turn_deg, double square = 0.015)
+{
+  const Eigen::Isometry3d camera = sl_sim::cameraPoseInWorld(rig);
+  const Eigen::Vector3d axis = camera.linear().col(2);
+  const Eigen::Vector3d n =
+      Eigen::AngleAxisd(turn_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d(-axis.x(), -axis.y(), 0.0);
+  sl_sim::SceneObject card;
+  card.name = "board";
+  card.pose.linear().col(2) = n.normalized();
+  card.pose.linear().col(0) = Eigen::Vector3d::UnitZ().cross(card.pose.linear().col(2)).normalized();
+  card.pose.linear().col(1) = card.pose.linear().col(2).cross(card.pose.linear().col(0));
+  card.pose.translation() = camera.translation() + depth * axis;
+  card.size = Eigen::Vector3d(13 * square, 10 * square, 0.0);
+  card.material.albedo = 0.85;
+  card.material.texture.type = sl_sim::TextureType::Checkerboard;
+  card.material.texture.cols = 10;
+  card.material.texture.rows = 7;
+  card.material.texture.square = square;
+  card.material.texture.dark_albedo = 0.05;
+  sl_sim::Scene scene;
+  scene.name = "board";
+  scene.objects = { card };
+  return scene;
+}
+}  // namespace
+
+// The camera lens's focus distance and f-number from the blur of board edges: boards at 0.40 to
+// 1.10 m (two turns each), rendered with lenses unlike the rig file's defaults, their poses from the
+// corners.
+TEST(CalibrationLens, CameraOpticsFromBoardEdges)
+{
+  struct Lens
+  {
+    double focus, f_number, focus_tolerance, f_number_tolerance;
+  };
+  // Measured: focus 0.6031 m, f/2.108 (lens 1); 0.8702 m, f/1.505 (lens 2). The f-number comes out
+  // 5 to 8 % high: the renderer blends blur levels, the blur is a little narrower than a thin lens's.
+  for (const Lens& lens : { Lens{ 0.60, 2.0, 0.0043, 0.15 }, Lens{ 0.85, 1.4, 0.028, 0.147 } })
+  {
+    sl_projector::Rig rig = trueRig();
+    rig.camera_optics.focus_distance = lens.focus;
+    rig.camera_optics.f_number = lens.f_number;
+    CalibrationSimulator sim(rig);
+    const Board board = parseBoardSize("9x6", 0.015);
+    std::vector<BlurSample> all, near_only;
+    uint64_t seed = 900;
+    for (double depth : { 0.40, 0.50, 0.60, 0.75, 0.90, 1.10 })
+      for (double turn : { -25.0, 25.0 })
+      {
+        const cv::Mat image = sim.renderBoard(boardScene(rig, depth, turn), seed++).image;
+        std::vector<cv::Point2f> corners;
+        ASSERT_TRUE(findBoardCorners(image, board, corners)) << depth << " m, " << turn << " deg";
+        const std::vector<EdgeBlur> edges = measureBoardEdgeBlur(image, board, corners);
+        EXPECT_GT(edges.size(), 60u) << depth << " m";
+        const std::vector<BlurSample> samples = blurAtDepth(edges, boardPose(rig.camera, board, corners));
+        all.insert(all.end(), samples.begin(), samples.end());
+        if (depth < 0.55)
+          near_only.insert(near_only.end(), samples.begin(), samples.end());
+      }
+    const LensFit fit = fitLensOptics(all, rig.camera.fx, rig.camera_optics.pixel_pitch);
+    std::printf("true focus %.3f m, f/%.2f: %s", lens.focus, lens.f_number, fit.summary("camera").c_str());
+    std::printf("  focus %.4f m, f/%.3f\n", fit.lens.focus_distance, fit.lens.f_number);
+    EXPECT_TRUE(fit.valid) << fit.note;
+    EXPECT_NEAR(fit.lens.focus_distance, lens.focus, lens.focus_tolerance);
+    EXPECT_NEAR(fit.lens.f_number, lens.f_number, lens.f_number_tolerance);
+    // Boards on one side of the focus only cannot tell nearer from farther: refused, saying so.
+    if (lens.focus > 0.55)
+    {
+      const LensFit one_side = fitLensOptics(near_only, rig.camera.fx, rig.camera_optics.pixel_pitch);
+      std::cout << one_side.summary("camera (boards nearer than 0.55 m only)");
+      EXPECT_FALSE(one_side.valid);
+      EXPECT_NE(one_side.note.find("both sides of the focus"), std::string::npos) << one_side.note;
+    }
+  }
+}
+
+// The full calibration estimates the camera lens when its board views lie on both sides of the
+// focus: the simulator's views (0.49 to 0.70 m, all nearer than the 0.675 m focus) do not, and the
+// rig keeps the lens it had; three more board views at 0.45, 0.95 and 1.10 m give it.
+TEST(CalibrationLens, FullCalibrationWritesTheCameraLens)
+{
+  const SimViews& v = simViews();
+  sl_projector::Rig start = trueRig();
+  start.camera_optics.focus_distance = 0.5;  // a wrong guess the calibration must replace or keep
+  start.camera_optics.f_number = 2.8;
+  FullCalibration cal(start, v.board);
+  for (const auto& b : v.boards)
+    cal.addCameraView(b.first, b.second);
+  for (const auto& p : v.poses)
+    cal.addPlaneView(std::get<0>(p) + " board", std::get<1>(p), std::get<0>(p) + " pattern", std::get<2>(p));
+  const FullCalibrationResult without = cal.calibrate();
+  std::cout << without.camera_lens.summary("camera (simulator's views)");
+  EXPECT_FALSE(without.camera_lens.valid);
+  EXPECT_NE(without.summary().find("camera lens optics not estimated: the samples"), std::string::npos);
+  EXPECT_EQ(without.rig.camera_optics.focus_distance, 0.5);
+  EXPECT_EQ(without.rig.camera_optics.f_number, 2.8);
+
+  CalibrationSimulator sim(trueRig());
+  uint64_t seed = 950;
+  for (double depth : { 0.45, 0.95, 1.10 })
+    cal.addCameraView(
+        "board at " + std::to_string(depth),
+        sim.renderBoard(boardScene(trueRig(), depth, depth < 0.5 ? 20.0 : -25.0, v.board.square), seed++).image);
+  const FullCalibrationResult with = cal.calibrate();
+  std::cout << with.camera_lens.summary("camera (with views at 0.45, 0.95, 1.10 m)");
+  EXPECT_TRUE(with.camera_lens.valid) << with.camera_lens.note;
+  std::printf("camera lens: focus %.4f m, f/%.3f\n", with.rig.camera_optics.focus_distance,
+              with.rig.camera_optics.f_number);
+  // The true lens: 0.675 m, f/1.4. Measured: 0.6762 m, f/1.431.
+  EXPECT_NEAR(with.rig.camera_optics.focus_distance, 0.675, 0.0017);
+  EXPECT_NEAR(with.rig.camera_optics.f_number, 1.4, 0.044);
+  // Through the rig file.
+  const sl_projector::Rig back = sl_projector::parseRig(sl_projector::rigToYaml(with.rig), "calibrated");
+  EXPECT_NEAR(back.camera_optics.focus_distance, with.rig.camera_optics.focus_distance, 1e-6);
+  // The extra views leave the geometry within the required accuracy.
+  const RigComparison c = compareRigs(with.rig, trueRig());
+  EXPECT_LT(std::abs(c.camera_fx_percent), 0.5);
+  EXPECT_LT(std::abs(c.projector_fx_percent), 1.0);
+  EXPECT_LT(c.translation_mm, 1.0);
+  EXPECT_LT(c.rotation_deg, 0.3);
 }

@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "sl_calibration/camera_calibration.h"
+#include "sl_calibration/lens_blur.h"
 #include "sl_calibration/plane_calibration.h"
 #include "sl_calibration/projector_calibration.h"
 #include "sl_decoder/decoder.h"
@@ -41,7 +42,10 @@ struct FullCalibrationResult
   ProjectorCalibrationResult projector;   ///< projector fit
   bool refined = false;                   ///< the joint refinement ran (the numbers above are after it)
   std::vector<std::string> plane_views;   ///< names of the plane views, in the order of projector.view_rms
-  sl_projector::Rig rig;                  ///< the input rig with camera, projector and projector_pose replaced
+  /// The camera lens's focus distance and f-number from the blur of the board edges at their depths
+  /// (board images only); when valid, written into rig.camera_optics.
+  LensFit camera_lens;
+  sl_projector::Rig rig;  ///< the input rig with camera, projector and projector_pose replaced
   /// The camera's reprojection residuals of every board corner (projected minus found, px) with the
   /// final camera model and board poses; `view` indexes camera_views.
   std::vector<ImageResidual> camera_residuals;
@@ -157,6 +161,7 @@ private:
   bool camera_given_ = false;
   sl_projector::PinholeModel camera_;
   std::vector<BoardView> board_views_;
+  std::vector<std::vector<EdgeBlur>> board_blur_;  // per board view: its edges' blur (none from corners alone)
   std::vector<PlaneView> plane_views_;
   std::unique_ptr<sl_decoder::Decoder> decoder_;
   sl_decoder::DecodeResult decoded_;

@@ -583,7 +583,8 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
   // lopsided band at the top or the bottom (1: W L R, 2: W R L, 3: L R W, 4: R L W), so which edge
   // is lopsided, and to which side, names the shape.
   // A tilted band is followed along its tilt.
-  if (pitch_ <= 0.0 || band.width() < 3 * pitch_ || band.height() > 2.0 * primitive_h_ + std::abs(slope_) * band.width())
+  if (pitch_ <= 0.0 || band.width() < 3 * pitch_ ||
+      band.height() > 2.0 * primitive_h_ + std::abs(slope_) * band.width())
     return;
   const int n = band.width();
   const double x_centre = 0.5 * (band.x0 + band.x1 - 1), y_centre = 0.5 * (band.y0 + band.y1);

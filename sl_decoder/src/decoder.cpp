@@ -91,10 +91,10 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
   preparePrimitives();
   // A primitive's box in the image: its share of the pattern's cell, scaled by the local steps.
   const sl_projector::PatternConfig& pc = rig.pattern;
+  // The pattern's rows are tilted in the image by a roll of camera or projector: their slope.
+  const double dx = index_->stepEast().x(), slope = std::abs(dx) > 1e-6 ? index_->stepEast().y() / dx : 0.0;
   detector_.setPrimitiveSize(index_->stepEast().norm() * pc.primitive_width / pc.cellWidth(),
-                             index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(),
-                             std::abs(index_->stepEast().x()),
-                             std::abs(index_->stepEast().x()) > 1e-6 ? index_->stepEast().y() / index_->stepEast().x() : 0.0);
+                             index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(), std::abs(dx), slope);
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
   grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;
@@ -102,6 +102,21 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
 }
 
 Decoder::~Decoder() = default;
+
+double Decoder::patternBlur(double depth, double defocus_scale) const
+{
+  constexpr double kBase = 0.3;  // px, either lens at its focus
+  // A disc of diameter d has the second moment of a Gaussian of sigma d / 4.
+  const double cam = defocus_scale * rig_.camera_optics.defocusDiameter(rig_.camera.fx, depth) / 4.0;
+  const double proj = defocus_scale * rig_.projector_optics.defocusDiameter(rig_.projector.fx, depth) / 4.0;
+  const double magnification = rig_.camera.fx / rig_.projector.fx;
+  return std::sqrt(kBase * kBase + cam * cam + (kBase * kBase + proj * proj) * magnification * magnification);
+}
+
+double Decoder::primitiveWidth() const
+{
+  return index_->stepEast().norm() * rig_.pattern.primitive_width / rig_.pattern.cellWidth();
+}
 
 void Decoder::preparePrimitives()
 {

@@ -1,7 +1,8 @@
-// The decoder on images and rigs that need no rendering: bad images, rigs it must refuse.
+// The decoder on images and rigs that need no rendering: bad images, rigs it must refuse, the optics.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -63,6 +64,24 @@ TEST(Decoder, HugeCamerasAreRefusedNotOverflowed)
       EXPECT_EQ(std::string(e.what()).rfind("camera image: ", 0), 0u) << e.what();
     }
   }
+}
+
+// The optics' blur of the pattern: the thin lens with the rig file's lenses, as the simulator
+// renders it (doc/simulator.md: sigma 2.11 px at 450 mm, 0.66 at 675 mm on the default rig).
+TEST(Decoder, PatternBlurFollowsTheRigsLenses)
+{
+  const Decoder decoder(defaultRig());
+  EXPECT_NEAR(decoder.patternBlur(0.45), 2.11, 0.01);
+  EXPECT_NEAR(decoder.patternBlur(0.675), std::sqrt(0.09 + 0.09 * std::pow(1492.0 / 753.0, 2)), 1e-9);
+  EXPECT_GT(decoder.patternBlur(0.35), decoder.patternBlur(0.40));
+  // Lenses that blur 1.5 times more.
+  EXPECT_GT(decoder.patternBlur(0.45, 1.5), 1.4 * decoder.patternBlur(0.45));
+  // Another focus moves the sharpest depth.
+  sl_projector::Rig near_focus = defaultRig();
+  near_focus.camera_optics.focus_distance = near_focus.projector_optics.focus_distance = 0.45;
+  EXPECT_LT(Decoder(near_focus).patternBlur(0.45), 0.7);
+  // A primitive's width in the image: 5 of 7 projector px of a cell, fx 1492 / 753 camera px each.
+  EXPECT_NEAR(decoder.primitiveWidth(), 5.0 * 1492.0 / 753.0, 0.5);
 }
 
 TEST(Decoder, DepthTablesAreRequiredForTableModes)

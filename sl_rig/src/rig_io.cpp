@@ -120,8 +120,7 @@ std::vector<double> numbers(const YAML::Node& node, const std::string& name, con
   return out;
 }
 
-PinholeModel readPinhole(const YAML::Node& root, const std::string& name, const std::string& source,
-                         LensOptics& optics)
+PinholeModel readPinhole(const YAML::Node& root, const std::string& name, const std::string& source, LensOptics& optics)
 {
   const YAML::Node n = child(root, name, "", source);
   checkKeys(n, { "width", "height", "K", "D", "focus_distance", "f_number", "pixel_pitch" }, name, source);

@@ -387,7 +387,8 @@ TEST(Rig, UnknownKeysAreRefusedNamingTheFileAndKey)
             "test.yaml: patterns: unknown key, did you mean 'pattern'? (allowed: camera, depth_tables, format_version, "
             "mount, pattern, projector, projector_pose)");
   EXPECT_EQ(parseError(replaced(good, kCameraK, "  Kx: [1, 0, 1, 0, 1, 1, 0, 0, 1]\n" + kCameraK)),
-            "test.yaml: camera.Kx: unknown key, did you mean 'K'? (allowed: D, K, f_number, focus_distance, height, pixel_pitch, width)");
+            "test.yaml: camera.Kx: unknown key, did you mean 'K'? (allowed: D, K, f_number, focus_distance, height, "
+            "pixel_pitch, width)");
   EXPECT_EQ(
       parseError(replaced(good, "  flip_y: false", "  flipy: true"))
           .rfind("test.yaml: pattern.flipy: unknown key, did you mean 'flip_y'? (allowed: cols, flip_x, flip_y, ", 0),

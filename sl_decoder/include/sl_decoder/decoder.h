@@ -96,6 +96,18 @@ public:
   /// @throws std::invalid_argument for another type or size.
   void decode(const cv::Mat& image, DecodeResult& result);
 
+  /**
+   * @brief The blur of the pattern in the image of a surface at @p depth m facing both lenses:
+   * Gaussian sigma, camera px. Thin lens with the rig's optics (Rig::camera_optics,
+   * Rig::projector_optics), camera and projector defocus and a base blur of 0.3 px each, the
+   * projector's in camera px (times fx_camera / fx_projector). @p defocus_scale: lenses that blur
+   * more or less than the rig file says.
+   */
+  double patternBlur(double depth, double defocus_scale = 1.0) const;
+
+  /// @brief A primitive's width in the image, camera px (its share of the pattern's cell).
+  double primitiveWidth() const;
+
   /// @brief The configuration.
   const DecoderConfig& config() const { return config_; }
   /// @brief The rig.

@@ -598,21 +598,26 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
     top_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, -1, reach, t);
     bottom_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, 1, reach, t);
   }
-  // The phase of the height profile at the pattern's pitch, over +-3 pitches around x.
+  // The phase of the height profile at the pattern's pitch, over +-3 pitches around x: from prefix
+  // sums of its products with the cosine and sine (one pair of them per column, not per window).
+  const double omega = 2.0 * M_PI / pitch_;
+  phase_re_.resize(static_cast<size_t>(n) + 1);
+  phase_im_.resize(static_cast<size_t>(n) + 1);
+  phase_re_[0] = phase_im_[0] = 0.0;
+  for (int i = 0; i < n; ++i)
+  {
+    const float h = bottom_[static_cast<size_t>(i)] - top_[static_cast<size_t>(i)];
+    const bool finite = std::isfinite(h);
+    const double a = omega * (band.x0 + i);
+    phase_re_[static_cast<size_t>(i) + 1] = phase_re_[static_cast<size_t>(i)] + (finite ? h * std::cos(a) : 0.0);
+    phase_im_[static_cast<size_t>(i) + 1] = phase_im_[static_cast<size_t>(i)] + (finite ? h * std::sin(a) : 0.0);
+  }
   auto centreNear = [&](double x)
   {
-    const double omega = 2.0 * M_PI / pitch_;
-    double re = 0.0, im = 0.0;
     const int i0 = std::max(0, static_cast<int>(x - band.x0 - 3.0 * pitch_));
-    const int i1 = std::min(n, static_cast<int>(x - band.x0 + 3.0 * pitch_));
-    for (int i = i0; i < i1; ++i)
-    {
-      const float h = bottom_[static_cast<size_t>(i)] - top_[static_cast<size_t>(i)];
-      if (!std::isfinite(h))
-        continue;
-      re += h * std::cos(omega * (band.x0 + i));
-      im += h * std::sin(omega * (band.x0 + i));
-    }
+    const int i1 = std::max(i0, std::min(n, static_cast<int>(x - band.x0 + 3.0 * pitch_)));
+    const double re = phase_re_[static_cast<size_t>(i1)] - phase_re_[static_cast<size_t>(i0)];
+    const double im = phase_im_[static_cast<size_t>(i1)] - phase_im_[static_cast<size_t>(i0)];
     const double phase = std::atan2(im, re) / omega;  // a centre, modulo the pitch
     return phase + std::round((x - phase) / pitch_) * pitch_;
   };

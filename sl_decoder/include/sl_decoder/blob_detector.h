@@ -230,6 +230,7 @@ private:
   static constexpr int kLastLevel = 5;           // raised thresholds tried before cutting by the pitch
   static constexpr float kBandMinMargin = 0.3f;  // px between the lopsided and the straight edge
   std::vector<float> top_, bottom_;              // outline of a saturated band per column, px
+  std::vector<double> phase_re_, phase_im_;      // prefix sums of its height times cos, sin
   // Splitting of oversized components (buffers reused).
   std::vector<Region> oversized_, pending_, parts_;
   std::vector<Span> spans_;                   // pixels of the regions above

@@ -180,7 +180,8 @@ TEST(RobotModel, InvalidRigFilesAreRefusedNamingTheKey)
     { "format_version: 1\nmount: {xyz: [0, 0, 0.1], rpy: [0, 0, 0], parnet_frame: base_link}\n",
       "mount.parnet_frame: unknown key, did you mean 'parent_frame'?" },
     { "format_version: 1\npattern: {rosw: 3}\n", "pattern.rosw: unknown key, did you mean 'rows'?" },
-    { "format_version: 1\ncamera: {width: 752, skew: 0}\n", "camera.skew: unknown key (allowed: D, K, height, width)" },
+    { "format_version: 1\ncamera: {width: 752, skew: 0}\n",
+      "camera.skew: unknown key (allowed: D, K, f_number, focus_distance, height, pixel_pitch, width)" },
     { "format_version: 1\ndepth_tables: {rational: {a: [], b: [], d: [], rms: []}}\n",
       "depth_tables.rational.d: unknown key (allowed: a, b, c, rms)" },  // a, b and c tie: no hint
     { "format_version: 1\nprojector_pose: [1, 2]\n", "projector_pose: must be a mapping" },

@@ -764,8 +764,8 @@ inline bool Decoder::rowSpellsPattern(const std::vector<Blob>& blobs, int i, int
   // Six blobs all right, or nine with one misread: a wrong identity passes with odds of about 1e-3
   // (random shapes), before the support and epipolar checks. Rows blurred so much that some shapes
   // read wrong: twelve with two misread, fifteen with three (odds of 4e-5 and 1e-5).
-  return (present >= 6 && mismatches == 0) || (present >= 9 && mismatches <= 1) ||
-         (present >= 12 && mismatches <= 2) || (present >= 15 && mismatches <= 3);
+  return (present >= 6 && mismatches == 0) || (present >= 9 && mismatches <= 1) || (present >= 12 && mismatches <= 2) ||
+         (present >= 15 && mismatches <= 3);
 }
 
 void Decoder::finishLabels(DecodeResult& result)

@@ -317,7 +317,12 @@ inline void ShapeClassifier::decide(const float sums[6], Blob& blob) const
   }
   blob.correlation = best;
   blob.margin = best - second;
-  const bool clear = (best >= config_.min_correlation) & (blob.margin >= config_.min_margin);
+  // A part of a merged row is the pattern's light for sure (no speckle, no texture): blur and
+  // overexposure lower its correlation, only the margin tells its shape.
+  const float min_correlation = blob.level > 0
+                                    ? std::min(static_cast<float>(config_.min_correlation), kMergedMinCorrelation)
+                                    : static_cast<float>(config_.min_correlation);
+  const bool clear = (best >= min_correlation) & (blob.margin >= config_.min_margin);
   blob.shape = best_shape & -static_cast<int>(clear);
 }
 

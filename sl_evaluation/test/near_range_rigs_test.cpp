@@ -140,7 +140,7 @@ TEST(NearRangeRigs, FamilyOfGeneratedRigs)
   // Where the optics leave the shapes (rho <= 0.2), the floors hold on every rig. Measured:
   // 36 of the 90 near cases, valid 97.0 to 99.8 %, mean error at most 0.42 mm.
   // Beyond, saturated rows blurred by a sigma of a third of a primitive or more lose most of their
-  // outline: measured, the floors (80 / 90 / 95 %, 1.5 mm) hold in 14 of 30 cases at 0.35 m, 18 at
+  // outline: measured, the floors (80 / 90 / 95 %, 1.5 mm) hold in 15 of 30 cases at 0.35 m, 19 at
   // 0.40 m, 24 at 0.45 m (doc/results.md lists each).
   for (double d : { 0.35, 0.40, 0.45 })
   {
@@ -158,7 +158,7 @@ TEST(NearRangeRigs, FamilyOfGeneratedRigs)
       }
     }
     std::printf("%.2f m: the floors hold on %d of 30 rig and blur cases\n", d, meeting);
-    EXPECT_GE(meeting, d < 0.375 ? 12 : d < 0.425 ? 17 : 23) << d << " m";
+    EXPECT_GE(meeting, d < 0.375 ? 13 : d < 0.425 ? 17 : 22) << d << " m";
   }
   // Farther: the defocus of a lens focused at 0.5 m ends decoding beyond about 0.9 m (rho above
   // 0.3: 4 to 6 % at 1.2 m, as before the near-range work); elsewhere measured valid 94.8 to

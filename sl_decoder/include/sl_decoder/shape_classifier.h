@@ -55,6 +55,7 @@ public:
 
 private:
   static constexpr int kMaxGrid = 64;  // DecoderConfig limits the template to 64 x 64
+  static constexpr float kMergedMinCorrelation = 0.2f;  // at most, for parts of merged rows
 
   /// Source pixels and weights of the grid columns and rows for @p blob (ix_, ax_, iy_, ay_).
   void placeGrid(const cv::Mat& image, const Blob& blob);

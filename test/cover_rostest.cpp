@@ -3,7 +3,9 @@
 // min_progress (coverage_progress: covered / reachable known floor), the coverage grid must come
 // (nav_msgs/OccupancyGrid with covered cells), and nothing may be touched in any direction (the
 // camera simulator's collision signal), nor the bumper. Prints the progress and the true path every
-// 20 s.
+// 20 s, a line per minute (progress, colliding messages, nearest approach) and, at the end, the
+// progress at each whole minute. With ~path_file set, the true pose goes there every 0.1 s
+// ("t x y yaw" per line, s since the first pose, world frame) for measuring against the scene.
 #include <cstdio>
 #include <string>
 
@@ -25,6 +27,15 @@ protected:
     if (previous != nullptr)
     {
       path_ += stepBetween(now, *previous);
+    }
+    const ros::Time t = ros::Time::now();
+    if (path_out_ != nullptr && (last_written_.isZero() || (t - last_written_).toSec() >= 0.1))
+    {
+      if (first_pose_.isZero())
+        first_pose_ = t;
+      last_written_ = t;
+      std::fprintf(path_out_, "%.2f %.4f %.4f %.4f\n", (t - first_pose_).toSec(), now.position.x, now.position.y,
+                   yawOf(now));
     }
   }
   void onStatus(const sl_msgs::ObstacleStatus&) override {}
@@ -57,6 +68,8 @@ protected:
   }
 
   ros::NodeHandle node_;
+  std::FILE* path_out_ = nullptr;  // ~path_file, or none
+  ros::Time first_pose_, last_written_;
   double path_ = 0.0;
   double progress_ = 0.0;
   double best_progress_ = 0.0;
@@ -73,6 +86,14 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
 {
   const double duration = privateParam("duration", 120.0);
   const double min_progress = privateParam("min_progress", 0.0);
+  std::string path_file;
+  ros::param::get("~path_file", path_file);
+  if (!path_file.empty())
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    path_out_ = std::fopen(path_file.c_str(), "w");
+    ASSERT_NE(path_out_, nullptr) << "cannot write ~path_file " << path_file;
+  }
   ros::Subscriber progress_sub = node_.subscribe<std_msgs::Float32>(
       "coverage_progress", 10, [this](const std_msgs::Float32::ConstPtr& m) { onProgress(*m); });
   ros::Subscriber grid_sub = node_.subscribe<nav_msgs::OccupancyGrid>(
@@ -88,6 +109,7 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
       60.0))
       << "no navigation_status or no true_pose";
   const ros::Time start = ros::Time::now();
+  std::string per_minute;  // the progress at each whole minute
   for (int step = 1; step * 20.0 <= duration + 1e-9; ++step)
   {
     const bool ended = sl_testing::waitUntil(
@@ -100,6 +122,14 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
     std::lock_guard<std::mutex> lock(mutex_);
     std::printf("cover %5.1f s: coverage_progress %.3f, %d cells covered, true path %.2f m, min clearance %.3f m: %s\n",
                 (ros::Time::now() - start).toSec(), progress_, covered_cells_, path_, min_clearance_, reason_.c_str());
+    if (step % 3 == 0)
+    {
+      std::printf("cover minute %d: coverage_progress %.3f, %d colliding messages, nearest approach %.3f m (%s)\n",
+                  step / 3, progress_, colliding_messages_, min_clearance_, nearest_object_.c_str());
+      char entry[32];
+      std::snprintf(entry, sizeof(entry), "%s%d %.3f", per_minute.empty() ? "" : ", ", step / 3, progress_);
+      per_minute += entry;
+    }
     if (ended)
     {
       break;
@@ -109,6 +139,8 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
     std::lock_guard<std::mutex> lock(mutex_);
     std::printf("cover: best coverage_progress %.3f (floor %.3f) after %.1f s%s, true path %.2f m\n", best_progress_,
                 min_progress, (ros::Time::now() - start).toSec(), done_ ? ", DONE" : "", path_);
+    std::printf("cover: progress at minute %s; %d colliding messages; nearest approach %.3f m (%s)\n",
+                per_minute.c_str(), colliding_messages_, min_clearance_, nearest_object_.c_str());
     EXPECT_GE(best_progress_, min_progress);
     EXPECT_GT(progress_messages_, 0) << "no coverage_progress";
     EXPECT_GT(grid_messages_, 0) << "no coverage grid";
@@ -120,6 +152,12 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
   progress_sub.shutdown();
   grid_sub.shutdown();
   nav_sub.shutdown();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (path_out_ != nullptr)
+      std::fclose(path_out_);
+    path_out_ = nullptr;
+  }
   expectNoCollision();
 }
 }  // namespace sl_bringup_test

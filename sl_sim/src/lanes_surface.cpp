@@ -89,7 +89,9 @@ SL_INLINE void surfaceBody(const KSurface& surface, const float* __restrict dx, 
     {
       const float x = (px + s.half_w) * s.inv_square, y = (py + s.half_h) * s.inv_square;
       const bool inside = (x >= 0.f) & (y >= 0.f) & (x < static_cast<float>(s.cols)) & (y < static_cast<float>(s.rows));
-      const int ci = static_cast<int>(fmax2(x, 0.f)), cj = static_cast<int>(fmax2(y, 0.f));
+      // Clamped before the conversion: lanes that missed the board carry any x, y (even inf).
+      const int ci = static_cast<int>(fmin2(fmax2(x, 0.f), static_cast<float>(s.cols)));
+      const int cj = static_cast<int>(fmin2(fmax2(y, 0.f), static_cast<float>(s.rows)));
       const bool dark = inside & (((ci + cj) & 1) == 0);
       par = dark ? 1 : 0;
       alb = dark ? s.dark_albedo : s.albedo;

@@ -93,8 +93,8 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
   const sl_projector::PatternConfig& pc = rig.pattern;
   // The pattern's rows are tilted in the image by a roll of camera or projector: their slope.
   const double dx = index_->stepEast().x(), slope = std::abs(dx) > 1e-6 ? index_->stepEast().y() / dx : 0.0;
-  detector_.setPrimitiveSize(index_->stepEast().norm() * pc.primitive_width / pc.cellWidth(),
-                             index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(), std::abs(dx), slope);
+  detector_.setPrimitiveSize(primitiveWidth(), index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(),
+                             std::abs(dx), slope);
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
   grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;

@@ -73,11 +73,15 @@ bool PinholeModel::distorted() const
   return false;
 }
 
-double LensOptics::defocusDiameter(double f_px, double depth) const
+double LensOptics::defocusPerInverseDepth(double f_px) const
 {
   const double f = f_px * pixel_pitch;
-  return (f / f_number) * f_px * focus_distance / std::max(focus_distance - f, 1e-6) *
-         std::abs(1.0 / depth - 1.0 / focus_distance);
+  return (f / f_number) * f_px * focus_distance / std::max(focus_distance - f, 1e-6);
+}
+
+double LensOptics::defocusDiameter(double f_px, double depth) const
+{
+  return defocusPerInverseDepth(f_px) * std::abs(1.0 / depth - 1.0 / focus_distance);
 }
 
 RigidTransform RigidTransform::inverse() const

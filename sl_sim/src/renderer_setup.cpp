@@ -211,13 +211,12 @@ void Renderer::Impl::buildProjector()
   kp.power_focus2 = static_cast<float>(s.projector_power * s.projector_focus_distance * s.projector_focus_distance);
   kp.falloff_weight = s.irradiance_falloff ? 1.f : 0.f;
   kp.flat_power = s.irradiance_falloff ? 0.f : static_cast<float>(s.projector_power);
-  // Thin lens: the blur circle's diameter on the sensor, in px, is
-  //   A f_px z_f / (z_f - f) |1/z - 1/z_f|, aperture A = f / N, focal length f = f_px * pitch;
-  // a disc of diameter b has the second moment of a Gaussian of sigma b / 4.
+  // Thin lens (sl_projector::LensOptics, the settings' lens, the rig's where a setting is 0); a disc
+  // of diameter b has the second moment of a Gaussian of sigma b / 4.
   auto defocusK = [&s](double f_px, double pitch, double n, double focus)
   {
-    const double f = f_px * pitch;
-    return s.defocus_scale * (f / n) * f_px * focus / std::max(focus - f, 1e-6) / 4.0;
+    const sl_projector::LensOptics lens{ focus, n, pitch };
+    return s.defocus_scale * lens.defocusPerInverseDepth(f_px) / 4.0;
   };
   const double pf = std::sqrt(P.fx * P.fy);
   const double cf = std::sqrt(rig.camera.fx * rig.camera.fy);

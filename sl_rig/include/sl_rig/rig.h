@@ -82,6 +82,9 @@ struct LensOptics
   /// @brief Thin-lens blur circle diameter, px, of a point at depth @p depth m for a lens of
   /// focal length @p f_px px. 0 at the focus distance.
   double defocusDiameter(double f_px, double depth) const;
+  /// @brief The factor k of defocusDiameter() = k |1/depth - 1/focus_distance| (px m), for a lens
+  /// of focal length @p f_px px: `(f / N) * f_px * z_f / (z_f - f)`.
+  double defocusPerInverseDepth(double f_px) const;
 };
 
 /// @brief A rigid transform: p_parent = rotation * p_child + translation (metres).

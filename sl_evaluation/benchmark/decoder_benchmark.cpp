@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <chrono>
+#include <utility>
 #include <vector>
 
 #include "sl_evaluation/evaluation.h"
@@ -80,6 +81,26 @@ void decodeScene(benchmark::State& state, const std::vector<std::string>& parts,
   }
 }
 
+/// Runs @p first then @p second in every iteration of @p state, so that a noisy machine slows both
+/// alike. @return their mean times, ms.
+template <class First, class Second>
+std::pair<double, double> timeInTurn(benchmark::State& state, First first, Second second)
+{
+  double first_ms = 0.0, second_ms = 0.0;
+  for (auto _ : state)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    first();
+    const auto t1 = std::chrono::steady_clock::now();
+    second();
+    const auto t2 = std::chrono::steady_clock::now();
+    first_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    second_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  const double n = static_cast<double>(state.iterations());
+  return { first_ms / n, second_ms / n };
+}
+
 /// The decode of the 700 mm plane against one labelling pass on the same frame, in the same run:
 /// cv::connectedComponents (8-connected, Spaghetti) of its Otsu binarisation. Both are timed in every
 /// iteration, one after the other, so that a noisy machine slows both alike; ratio = decode / label.
@@ -94,22 +115,16 @@ void BM_DecodeVsLabellingPlane700(benchmark::State& state)
   sl_decoder::DecodeResult result;
   decoder.decode(frame.image, result);
   cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI);
-  double decode_ms = 0.0, label_ms = 0.0;
-  for (auto _ : state)
-  {
-    auto t0 = std::chrono::steady_clock::now();
-    decoder.decode(frame.image, result);
-    benchmark::DoNotOptimize(result.valid);
-    auto t1 = std::chrono::steady_clock::now();
-    const int n = cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI);
-    benchmark::DoNotOptimize(n);
-    auto t2 = std::chrono::steady_clock::now();
-    decode_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-    label_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
-  }
-  const double n = static_cast<double>(state.iterations());
-  state.counters["decode_ms"] = decode_ms / n;
-  state.counters["label_ms"] = label_ms / n;
+  const auto [decode_ms, label_ms] = timeInTurn(
+      state,
+      [&]
+      {
+        decoder.decode(frame.image, result);
+        benchmark::DoNotOptimize(result.valid);
+      },
+      [&] { benchmark::DoNotOptimize(cv::connectedComponents(binary, labels, 8, CV_32S, cv::CCL_SPAGHETTI)); });
+  state.counters["decode_ms"] = decode_ms;
+  state.counters["label_ms"] = label_ms;
   state.counters["ratio"] = decode_ms / label_ms;
 }
 
@@ -137,22 +152,17 @@ void BM_DecodeNearVsPlane700(benchmark::State& state)
   sl_decoder::DecodeResult near_result, far_result;
   decoder.decode(near.image, near_result);  // warm-up: buffers reach their size
   decoder.decode(far.image, far_result);
-  double near_ms = 0.0, far_ms = 0.0;
-  for (auto _ : state)
+  const auto decodeOf = [&decoder](const cv::Mat& image, sl_decoder::DecodeResult& result)
   {
-    auto t0 = std::chrono::steady_clock::now();
-    decoder.decode(near.image, near_result);
-    benchmark::DoNotOptimize(near_result.valid);
-    auto t1 = std::chrono::steady_clock::now();
-    decoder.decode(far.image, far_result);
-    benchmark::DoNotOptimize(far_result.valid);
-    auto t2 = std::chrono::steady_clock::now();
-    near_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-    far_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
-  }
-  const double n = static_cast<double>(state.iterations());
-  state.counters["near_ms"] = near_ms / n;
-  state.counters["far_ms"] = far_ms / n;
+    return [&decoder, &image, &result]
+    {
+      decoder.decode(image, result);
+      benchmark::DoNotOptimize(result.valid);
+    };
+  };
+  const auto [near_ms, far_ms] = timeInTurn(state, decodeOf(near.image, near_result), decodeOf(far.image, far_result));
+  state.counters["near_ms"] = near_ms;
+  state.counters["far_ms"] = far_ms;
   state.counters["ratio"] = near_ms / far_ms;
   state.counters["near_points"] = near_result.valid;
   // Where a near frame's time goes (the last iteration's stages).

@@ -12,18 +12,13 @@
 #include <utility>
 
 #include "sl_evaluation/evaluation.h"
+#include "true_rig.h"
 
 using namespace sl_decoder;
 using namespace sl_evaluation;
 
 namespace
 {
-const sl_projector::Rig& defaultRig()
-{
-  static const sl_projector::Rig rig = sl_projector::loadRig(defaultRigFile());
-  return rig;
-}
-
 EvalStats run(const sl_projector::Rig& rig, const std::vector<std::string>& scene, int frames = 2,
               const DecoderConfig& config = DecoderConfig())
 {
@@ -72,7 +67,7 @@ void expectFloors(const EvalStats& s, const Floors& f, const std::string& what)
 // 700 mm plane) is far below what is reached: the doc/results.md's figures are asserted instead.
 TEST(Decoder, PlaneAt700mm)
 {
-  const EvalStats s = run(defaultRig(), { "plane_700" }, 3);
+  const EvalStats s = run(trueRig(), { "plane_700" }, 3);
   EXPECT_GT(s.visible, 3 * 600);
   // doc/results.md: 100.0 %, 0.11 mm mean, max 5.9. Measured: 100.000 %, 0.109 mm, max 5.85 mm, no near point.
   expectFloors(s, { 99.9, 0.12, 6.1, 0.0, 0.0 }, "plane_700");
@@ -80,7 +75,7 @@ TEST(Decoder, PlaneAt700mm)
 
 TEST(Decoder, ThreePlanes)
 {
-  const EvalStats s = run(defaultRig(), { "three_planes" }, 3);
+  const EvalStats s = run(trueRig(), { "three_planes" }, 3);
   // doc/results.md: 97.8 %, 0.16 mm mean, max 6.16, 529 near points per frame (the two nearer planes).
   // Measured: 97.821 %, 0.163 mm, max 6.16 mm, 529.0 near points per frame.
   expectFloors(s, { 97.7, 0.17, 6.5, 500.0, kAny }, "three_planes");
@@ -93,7 +88,7 @@ TEST(Decoder, PlanesFrom450To950mm)
 {
   for (int mm = 450; mm <= 950; mm += 50)
   {
-    const EvalStats s = run(defaultRig(), { "plane_" + std::to_string(mm) }, 3);
+    const EvalStats s = run(trueRig(), { "plane_" + std::to_string(mm) }, 3);
     // Near points: none in front of a plane, but at 950 mm 29 per frame on the floor at its foot.
     // Floors a little under the doc/results.md's 95.7..99.6 % and 0.08..0.36 mm: the worst steps (850 mm,
     // 950 mm) sit on them within a third of a primitive and 0.001 mm, too close for another CPU.
@@ -107,7 +102,7 @@ TEST(Decoder, PlanesFrom450To950mm)
 /// wrong.
 int fewestPointsOnLeg(const char* scene_name, double axis_x, double radius, int frames)
 {
-  const sl_projector::Rig& rig = defaultRig();
+  const sl_projector::Rig& rig = trueRig();
   const sl_sim::Scene scene = sl_sim::loadScene(findScene({ scene_name }));
   sl_sim::Renderer renderer(rig);
   Decoder decoder(rig);
@@ -156,21 +151,21 @@ TEST(Decoder, ObjectsBeforePlanes)
 {
   // doc/results.md: 96.5 %, 0.23 mm mean, max 9.9 (the silhouette), 357 near points per frame.
   // Measured: 96.456 %, 0.233 mm, max 9.93 mm, 357.0 near points per frame.
-  expectFloors(run(defaultRig(), { "cylinder_plane_650" }, 3), { 96.4, 0.24, 10.4, 340.0, kAny }, "cylinder");
+  expectFloors(run(trueRig(), { "cylinder_plane_650" }, 3), { 96.4, 0.24, 10.4, 340.0, kAny }, "cylinder");
   // doc/results.md: 94.5 % (the saturated highlight loses primitives; 89.7 % without split_merged),
   // 0.97 mm mean, max 26, 633.0 near. Measured (sl_eval): 94.5 %, 0.97 mm, max 25.98 mm, 633.0 near.
-  expectFloors(run(defaultRig(), { "shiny_bin_586" }, 3), { 94.4, 0.98, 27.3, 600.0, kAny }, "shiny bin");
+  expectFloors(run(trueRig(), { "shiny_bin_586" }, 3), { 94.4, 0.98, 27.3, 600.0, kAny }, "shiny bin");
   // doc/results.md: 99.7 %, 0.21 mm mean, max 6.12, 27.3 near. Measured: 99.680 %, 0.209 mm, 6.12 mm, 27.3.
-  expectFloors(run(defaultRig(), { "table_leg_12mm" }, 3), { 99.6, 0.22, 6.4, 26.0, kAny }, "12 mm leg");
+  expectFloors(run(trueRig(), { "table_leg_12mm" }, 3), { 99.6, 0.22, 6.4, 26.0, kAny }, "12 mm leg");
   // doc/results.md: 99.9 %, 0.18 mm mean, max 9.98, 34.7 near. Measured: 99.918 %, 0.184 mm, 9.98 mm, 34.7.
-  expectFloors(run(defaultRig(), { "table_leg_20mm" }, 3), { 99.8, 0.19, 10.5, 33.0, kAny }, "20 mm leg");
+  expectFloors(run(trueRig(), { "table_leg_20mm" }, 3), { 99.8, 0.19, 10.5, 33.0, kAny }, "20 mm leg");
 }
 
 // Nothing may assume the default rig: another resolution, focal length and distortion, with the
 // projector on the other side of the camera.
 TEST(Decoder, WorksWithAnotherRig)
 {
-  sl_projector::Rig rig = defaultRig();
+  sl_projector::Rig rig = trueRig();
   rig.camera.width = 640;
   rig.camera.height = 400;
   rig.camera.fx = rig.camera.fy = 1250.0;
@@ -222,11 +217,11 @@ TEST(Decoder, NearRangeDefaultRig)
   {
     // Measured (seeds 1000, 2000; 1000..1002 and 1000..1004 in sl_eval): 67.9 to 68.2 %, 0.63 to 0.64 mm mean, max
     // 5.8 mm. The rows are saturated bands there, read from their outline.
-    expectFloors(runPlane(defaultRig(), 0.35, settings, seed, "near plane"), { 67.0, 0.7, 7.0, 0.0, 0.0 }, "0.35 m");
+    expectFloors(runPlane(trueRig(), 0.35, settings, seed, "near plane"), { 67.0, 0.7, 7.0, 0.0, 0.0 }, "0.35 m");
     // Measured: 96.7 to 96.9 %, 0.83 mm mean, max 3.0 mm.
-    expectFloors(runPlane(defaultRig(), 0.40, settings, seed, "near plane"), { 95.5, 0.9, 4.0, 0.0, 0.0 }, "0.40 m");
+    expectFloors(runPlane(trueRig(), 0.40, settings, seed, "near plane"), { 95.5, 0.9, 4.0, 0.0, 0.0 }, "0.40 m");
     // Measured: 98.2 %, 0.22 mm mean.
-    expectFloors(runPlane(defaultRig(), 0.45, settings, seed, "near plane"), { 97.5, 0.3, 1.5, 0.0, 0.0 }, "0.45 m");
+    expectFloors(runPlane(trueRig(), 0.45, settings, seed, "near plane"), { 97.5, 0.3, 1.5, 0.0, 0.0 }, "0.45 m");
   }
 }
 
@@ -237,7 +232,7 @@ TEST(Decoder, NearRangeHeavyProjectorBlur)
   settings.projector_f_number = 0.9;
   for (uint64_t seed : { 1000u, 2000u })
     // Measured: 95.7 to 95.9 %, 0.83 mm mean, max 3.1 mm.
-    expectFloors(runPlane(defaultRig(), 0.45, settings, seed, "f/0.9 plane"), { 94.5, 0.9, 4.0, 0.0, 0.0 }, "f/0.9");
+    expectFloors(runPlane(trueRig(), 0.45, settings, seed, "f/0.9 plane"), { 94.5, 0.9, 4.0, 0.0, 0.0 }, "f/0.9");
 }
 
 // The second rig of test/rigs: 640 x 480, fx 1100, the projector 70 mm to the camera's left, both
@@ -264,7 +259,7 @@ TEST(Decoder, DefaultRigPlanesTo1200mm)
   int k = 0;
   for (double d : { 1.0, 1.1, 1.2 })
   {
-    const EvalStats s = runPlane(defaultRig(), d, settings, 1000, "far plane");
+    const EvalStats s = runPlane(trueRig(), d, settings, 1000, "far plane");
     EXPECT_GE(s.validPercent(), 97.5) << d << " m";
     EXPECT_LE(s.meanErrorMm(), mean_ceiling[k++]) << d << " m";
     EXPECT_EQ(s.wrong, 0) << d << " m";
@@ -317,7 +312,7 @@ TEST(Decoder, LeftRigNearAndFarRows)
 // exactly to three depths on each primitive's curve.
 TEST(Decoder, RationalTablesMatchTriangulation)
 {
-  sl_projector::Rig rig = defaultRig();
+  sl_projector::Rig rig = trueRig();
   const sl_projector::Pattern pattern(rig.pattern);
   const size_t cells = static_cast<size_t>(rig.pattern.rows * rig.pattern.cols);
   rig.tables.rational.resize(cells);
@@ -359,7 +354,7 @@ TEST(Decoder, RationalTablesMatchTriangulation)
 // frames too (far, near and blurred, cluttered), so a decode does not depend on the CPU it runs on.
 TEST(Decoder, VectorPathsGiveIdenticalBlobsOnRenderedFrames)
 {
-  const sl_projector::Rig& rig = defaultRig();
+  const sl_projector::Rig& rig = trueRig();
   const Decoder decoder(rig);
   sl_sim::Renderer renderer(rig);
   sl_sim::RenderOutput frame;

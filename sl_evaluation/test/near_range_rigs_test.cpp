@@ -11,18 +11,13 @@
 #include <vector>
 
 #include "sl_evaluation/evaluation.h"
+#include "true_rig.h"
 
 using namespace sl_decoder;
 using namespace sl_evaluation;
 
 namespace
 {
-const sl_projector::Rig& defaultRig()
-{
-  static const sl_projector::Rig rig = sl_projector::loadRig(defaultRigFile());
-  return rig;
-}
-
 /// A rig of the family, and how it was drawn (for the messages).
 struct FamilyRig
 {
@@ -46,7 +41,7 @@ FamilyRig drawRig(uint32_t seed, bool left)
 {
   std::mt19937 rng(seed);
   auto uniform = [&rng](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
-  const sl_projector::Rig& base = defaultRig();
+  const sl_projector::Rig& base = trueRig();
   const Eigen::Vector2d aim = axisPixel(base, 0.675);
   sl_projector::Rig rig = base;
   const double baseline = uniform(0.040, 0.090);

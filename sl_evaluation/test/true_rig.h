@@ -1,7 +1,8 @@
 #pragma once
-// The simulator's true rigs, read once: the calibration tests render with them and measure the
-// calibrated rig against them. trueRig(): sl_evaluation::defaultRigFile() (projector right of the
-// camera); leftRig(): test/rigs/left_rig.yaml (the same rig with the projector mirrored to the left).
+// The simulator's true rigs, read once: the decoder and calibration tests render with them (the
+// calibration tests measure the calibrated rig against them). trueRig():
+// sl_evaluation::defaultRigFile() (projector right of the camera); leftRig(): test/rigs/left_rig.yaml
+// (the same rig with the projector mirrored to the left).
 #include <string>
 
 #include "sl_evaluation/evaluation.h"

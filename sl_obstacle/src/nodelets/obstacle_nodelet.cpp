@@ -36,12 +36,14 @@ class ObstacleNodelet : public nodelet::Nodelet
 public:
   ~ObstacleNodelet() override
   {
-    // Stop callbacks before the members they use go away.
+    // Stop callbacks before the members they use go away. A tf filter goes before the subscriber
+    // that feeds it: its destructor disconnects from that subscriber's signal (whose mutex would be
+    // gone, and the manager aborts with boost::lock_error).
     timer_.stop();
-    cloud_sub_.reset();
     tf_filter_.reset();
-    rays_sub_.reset();
+    cloud_sub_.reset();
     rays_filter_.reset();
+    rays_sub_.reset();
   }
 
 private:

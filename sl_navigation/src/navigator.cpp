@@ -11,6 +11,15 @@ namespace sl_navigation
 namespace
 {
 constexpr double kSearchAllowance = 1.0;  // m driven beyond max_detour x the distance (short goals)
+constexpr double kStuckPlace = 0.15;      // m: stuck again this near the first stuck is the same place
+constexpr double kStuckAgain = 60.0;      // s within which another stuck there counts
+constexpr double kTrailStep = 0.05;       // m between the trail's points
+constexpr std::size_t kTrailPoints = 40;  // the trail kept: 2 m
+constexpr double kBackoffDistance = 0.3;  // m reversed along the trail
+constexpr double kBackoffSpeed = 0.08;    // m/s
+constexpr double kBackoffTimeout = 8.0;   // s per phase of a back-off
+constexpr double kBlockedRadius = 0.1;    // m, the disc taken as blocked
+constexpr double kBlockedAhead = 0.12;    // m beyond the robot's disc where that disc's centre lies on the path
 }  // namespace
 
 void NavigatorParams::validate() const
@@ -26,6 +35,7 @@ void NavigatorParams::validate() const
   detail::requireRange("max_detour", max_detour, 1.0, 100.0);
   detail::requireRange("stuck_time", stuck_time, 0.5, 60.0);
   detail::requireRange("look_around", look_around, 0.0, M_PI);
+  detail::requireRange("refused_memory", refused_memory, 0.0, 3600.0);
   detail::requireRange("map_timeout", map_timeout, 0.1, 60.0);
 }
 
@@ -118,6 +128,7 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   has_last_pose_ = false;
   told_to_drive_ = false;
   look_step_ = -1;
+  backoff_phase_ = 0;
   return std::string();
 }
 
@@ -168,6 +179,7 @@ void Navigator::end(NavState state, const std::string& reason)
 
 bool Navigator::replan(const Pose& pose, double now, bool force)
 {
+  pruneBlocked(now);
   planner_.update(grid_, now);
   Plan p = planner_.plan(grid_, pose.x, pose.y, goal_.x, goal_.y);
   plan_time_ = now;
@@ -274,7 +286,12 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
     out_.command = true;
     return out_;
   }
+  recordTrail(pose);
   checkStuck(pose, now);
+  if (backoff_phase_ != 0 && backoff(pose, now))
+  {
+    return out_;
+  }
   if (look_step_ >= 0 && lookAround(pose, now))
   {
     return out_;
@@ -332,7 +349,7 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
   }
   out_.linear = c.linear;
   out_.angular = c.angular;
-  out_.reason = c.text;
+  out_.reason = now - blocked_time_ < 3.0 ? blocked_text_ + "; " + c.text : c.text;
   told_to_drive_ = c.linear > 0.0;
   return out_;
 }
@@ -347,8 +364,25 @@ void Navigator::checkStuck(const Pose& pose, double now)
     still_since_ = now;
     return;
   }
-  if (now - still_since_ >= params_.stuck_time && look_step_ < 0)
+  if (now - still_since_ >= params_.stuck_time && look_step_ < 0 && backoff_phase_ == 0)
   {
+    const bool same = now - stuck_at_time_ < kStuckAgain &&
+                      std::hypot(pose.x - stuck_at_.x, pose.y - stuck_at_.y) < kStuckPlace;
+    stuck_count_ = same ? stuck_count_ + 1 : 1;
+    stuck_at_time_ = now;
+    if (!same)
+    {
+      stuck_at_ = pose;
+    }
+    if (stuck_count_ == 2 && startBackoff(pose, now))
+    {
+      return;
+    }
+    if (stuck_count_ >= 2 && params_.refused_memory > 0.0)
+    {
+      blockAhead(pose, now);
+      return;
+    }
     look_step_ = 0;
     look_base_yaw_ = pose.yaw;
     look_started_ = now;
@@ -390,5 +424,158 @@ bool Navigator::lookAround(const Pose& pose, double now)
     return true;  // a stop this step (an ended goal also owes one)
   }
   return false;
+}
+
+Point Navigator::refusedPoint(const Pose& pose) const
+{
+  // The first point of the path beyond the robot's disc and a margin: where the filter would not
+  // let it go.
+  const double reach = params_.planner.robot_radius + kBlockedAhead;
+  for (std::size_t i = follower_.index(); i < plan_.points.size(); ++i)
+  {
+    if (std::hypot(plan_.points[i].x - pose.x, plan_.points[i].y - pose.y) >= reach)
+    {
+      return plan_.points[i];
+    }
+  }
+  return Point{ goal_.x, goal_.y };
+}
+
+void Navigator::recordTrail(const Pose& pose)
+{
+  if (!trail_.empty() && std::hypot(pose.x - trail_.back().x, pose.y - trail_.back().y) < kTrailStep)
+  {
+    return;
+  }
+  if (trail_.size() >= kTrailPoints)
+  {
+    trail_.erase(trail_.begin());
+  }
+  trail_.push_back(Point{ pose.x, pose.y });
+}
+
+bool Navigator::startBackoff(const Pose& pose, double now)
+{
+  // The trail point kBackoffDistance back along the way the robot came.
+  double along = std::hypot(pose.x - (trail_.empty() ? pose.x : trail_.back().x),
+                            pose.y - (trail_.empty() ? pose.y : trail_.back().y));
+  std::size_t i = trail_.size();
+  while (i > 1 && along < kBackoffDistance)
+  {
+    --i;
+    along += std::hypot(trail_[i].x - trail_[i - 1].x, trail_[i].y - trail_[i - 1].y);
+  }
+  if (trail_.empty() || along < 0.5 * kBackoffDistance)
+  {
+    return false;
+  }
+  backoff_target_ = trail_[i - 1];
+  backoff_look_ = refusedPoint(pose);
+  backoff_phase_ = 1;
+  backoff_started_ = now;
+  ++backoffs_;
+  told_to_drive_ = false;
+  return true;
+}
+
+bool Navigator::backoff(const Pose& pose, double now)
+{
+  out_.linear = 0.0;
+  out_.angular = 0.0;
+  out_.mode = FollowMode::LOOK;
+  const double to_target = std::hypot(backoff_target_.x - pose.x, backoff_target_.y - pose.y);
+  const double away = std::atan2(pose.y - backoff_target_.y, pose.x - backoff_target_.x);  // heading with the target behind
+  const double look = std::atan2(backoff_look_.y - pose.y, backoff_look_.x - pose.x);
+  const bool timed_out = now - backoff_started_ > kBackoffTimeout;
+  char text[200];
+  if (backoff_phase_ == 1 && std::abs(wrapAngle(away - pose.yaw)) > 0.1 && !timed_out)
+  {
+    out_.angular = turnRate(wrapAngle(away - pose.yaw), params_.follower.turn_speed);
+    std::snprintf(text, sizeof(text), "stuck twice here: turning so that the trail lies behind (%.2f rad to go)",
+                  wrapAngle(away - pose.yaw));
+  }
+  else if (backoff_phase_ <= 2 && to_target > 0.04 && !(backoff_phase_ == 2 && timed_out))
+  {
+    if (backoff_phase_ == 1)
+    {
+      backoff_phase_ = 2;
+      backoff_started_ = now;
+    }
+    // Reverse with the heading kept on the trail point behind.
+    out_.linear = -std::min(kBackoffSpeed, std::sqrt(2.0 * params_.follower.acceleration * to_target));
+    out_.angular = turnRate(wrapAngle(away - pose.yaw), 0.5);
+    std::snprintf(text, sizeof(text), "stuck twice here: backing off along the trail, %.2f m to go", to_target);
+  }
+  else if (backoff_phase_ <= 3 && std::abs(wrapAngle(look - pose.yaw)) > params_.follower.look_tolerance &&
+           !(backoff_phase_ == 3 && timed_out))
+  {
+    if (backoff_phase_ != 3)
+    {
+      backoff_phase_ = 3;
+      backoff_started_ = now;
+    }
+    out_.angular = turnRate(wrapAngle(look - pose.yaw), params_.follower.turn_speed);
+    std::snprintf(text, sizeof(text), "backed off: facing the refused way at (%.2f, %.2f)", backoff_look_.x,
+                  backoff_look_.y);
+  }
+  else if (backoff_phase_ <= 4 && now - backoff_started_ < params_.follower.look_time)
+  {
+    if (backoff_phase_ != 4)
+    {
+      backoff_phase_ = 4;
+      backoff_started_ = now;
+    }
+    std::snprintf(text, sizeof(text), "backed off: looking at the refused way at (%.2f, %.2f)", backoff_look_.x,
+                  backoff_look_.y);
+  }
+  else
+  {
+    backoff_phase_ = 0;
+    still_pose_ = pose;
+    still_since_ = now;
+    stuck_at_time_ = now;  // the next stuck in this place (within kStuckAgain) blocks the way
+    if (replan(pose, now, true))
+    {
+      return false;
+    }
+    if (out_.state == NavState::ACTIVE)
+    {
+      out_.reason = "backed off; no plan yet: " + plan_.text;
+    }
+    return true;
+  }
+  out_.reason = text;
+  return true;
+}
+
+void Navigator::blockAhead(const Pose& pose, double now)
+{
+  const Point c = refusedPoint(pose);
+  refused_.push_back(Refused{ Disc{ c.x, c.y, kBlockedRadius }, now + params_.refused_memory });
+  stuck_count_ = 0;
+  stuck_at_time_ = -std::numeric_limits<double>::infinity();
+  still_pose_ = pose;
+  still_since_ = now;
+  told_to_drive_ = false;
+  replan(pose, now, true);
+  char text[200];
+  std::snprintf(text, sizeof(text), "stuck again at (%.2f, %.2f): the way through (%.2f, %.2f) taken as blocked for %.0f s",
+                pose.x, pose.y, c.x, c.y, params_.refused_memory);
+  blocked_text_ = text;
+  blocked_time_ = now;
+  ++blocked_places_;
+}
+
+void Navigator::pruneBlocked(double now)
+{
+  refused_.erase(std::remove_if(refused_.begin(), refused_.end(), [now](const Refused& r) { return r.until <= now; }),
+                 refused_.end());
+  std::vector<Disc> discs;
+  discs.reserve(refused_.size());
+  for (const Refused& r : refused_)
+  {
+    discs.push_back(r.disc);
+  }
+  planner_.setBlocked(discs);
 }
 }  // namespace sl_navigation

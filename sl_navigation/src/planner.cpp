@@ -138,6 +138,7 @@ void Planner::update(const NavGrid& grid, double now)
   }
   resolution_ = grid.params().resolution;
   grid.snapshot(now, cells_);
+  applyBlocked(grid);
   queue_.clear();
   for (std::size_t i = 0; i < cells_.size(); ++i)
   {
@@ -167,6 +168,30 @@ void Planner::update(const NavGrid& grid, double now)
   for (int k = 0; k < n_; ++k)
   {
     factor_[index(k, 0)] = factor_[index(k, n_ - 1)] = factor_[index(0, k)] = factor_[index(n_ - 1, k)] = kOccupied;
+  }
+}
+
+void Planner::applyBlocked(const NavGrid& grid)
+{
+  for (const Disc& d : blocked_)
+  {
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !(d.radius > 0.0) || !grid.contains(d.x, d.y))
+    {
+      continue;
+    }
+    const int reach = static_cast<int>(std::ceil(d.radius / resolution_));
+    const int cx = grid.indexX(d.x);
+    const int cy = grid.indexY(d.y);
+    for (int iy = std::max(0, cy - reach); iy <= std::min(n_ - 1, cy + reach); ++iy)
+    {
+      for (int ix = std::max(0, cx - reach); ix <= std::min(n_ - 1, cx + reach); ++ix)
+      {
+        if (std::hypot(grid.centerX(ix) - d.x, grid.centerY(iy) - d.y) <= d.radius)
+        {
+          cells_[index(ix, iy)] = Cell::Occupied;
+        }
+      }
+    }
   }
 }
 

@@ -132,6 +132,85 @@ TEST(Navigator, ReachesAGoalThroughADoorWithoutTouchingAnything)
   }
 }
 
+TEST(Navigator, TakesAnotherWayWhereTheSafetyFilterKeepsRefusing)
+{
+  // Two doors in the dividing wall; the nearer one (y 0.3..1.1) looks open to the map, but the
+  // safety filter (modelled here: no forward motion that would bring the robot's centre within
+  // 0.45 m of that door's middle) never lets the robot through, as it refuses what its sensor does
+  // not see free. The navigator must not look around there forever: stuck a second time in one
+  // place it backs off along its trail and looks again; stuck a third time there, it takes that way
+  // as blocked and goes through the other door (y -2.0..-1.2).
+  World world;
+  world.box(-3.0, -2.6, 3.0, -2.5);
+  world.box(-3.0, 2.5, 3.0, 2.6);
+  world.box(-3.1, -2.6, -3.0, 2.6);
+  world.box(3.0, -2.6, 3.1, 2.6);
+  world.box(0.0, -2.5, 0.1, -2.0);
+  world.box(0.0, -1.2, 0.1, 0.3);
+  world.box(0.0, 1.1, 0.1, 2.5);
+  const double door_x = 0.05, door_y = 0.7;
+  for (const double refused_memory : { 120.0, 0.0 })
+  {
+    NavigatorParams p = params();
+    p.refused_memory = refused_memory;
+    Navigator nav(p);
+    const NavGoal goal{ 2.0, 0.7, 0.0, false };
+    Pose pose;
+    pose.x = -2.0;
+    pose.y = 0.7;
+    ASSERT_TRUE(nav.setGoal(goal, 100.0).empty());
+    std::vector<std::int8_t> memory, data;
+    OccupancyView view;
+    const double dt = 0.05;
+    double cap = std::numeric_limits<double>::infinity();
+    double nearest_door = 1e9, min_clearance = 1e9;
+    NavState state = NavState::ACTIVE;
+    std::string reason;
+    double t = 100.0;
+    for (int k = 0; t < 100.0 + 240.0 && state == NavState::ACTIVE; ++k, t += dt)
+    {
+      if (k % 10 == 0)
+      {
+        world.sense(pose, memory, data, view);
+        nav.onMap(view, t);
+      }
+      const NavOutput& out = nav.step(pose, t, cap);
+      state = out.state;
+      reason = out.reason;
+      double v = out.linear;
+      Pose ahead = pose;
+      World::move(ahead, v, out.angular, 0.25);
+      const bool nearer = std::hypot(ahead.x - door_x, ahead.y - door_y) < std::hypot(pose.x - door_x, pose.y - door_y);
+      if (v > 0.0 && nearer && std::hypot(ahead.x - door_x, ahead.y - door_y) < 0.45)
+      {
+        v = 0.0;  // the filter's refusal
+      }
+      cap = v;
+      World::move(pose, v, out.angular, dt);
+      nearest_door = std::min(nearest_door, std::hypot(pose.x - door_x, pose.y - door_y));
+      min_clearance = std::min(min_clearance, world.clearance(pose.x, pose.y, kRadius));
+    }
+    std::printf("refused_memory %.0f s: %s after %.1f s at (%.2f, %.2f), %zu back-off(s), %zu place(s) blocked, "
+                "nearest the refused door %.2f m: %s\n",
+                refused_memory, toString(state), t - 100.0, pose.x, pose.y, nav.backoffs(), nav.blockedPlaces(),
+                nearest_door, reason.c_str());
+    EXPECT_GE(nav.backoffs(), 1u);
+    EXPECT_GT(min_clearance, 0.0);
+    EXPECT_GE(nearest_door, 0.44);
+    if (refused_memory > 0.0)
+    {
+      EXPECT_EQ(state, NavState::SUCCEEDED) << reason;
+      EXPECT_GE(nav.blockedPlaces(), 1u);
+      EXPECT_LE(t - 100.0, 110.0);  // measured 90.1 s (one back-off, one place blocked, 9.0 m driven)
+    }
+    else
+    {
+      EXPECT_NE(state, NavState::SUCCEEDED) << "without the memory the robot keeps trying the refused door";
+      EXPECT_EQ(nav.blockedPlaces(), 0u);
+    }
+  }
+}
+
 TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
 {
   const World world = furnishedRooms();

@@ -98,6 +98,25 @@ TEST(Planner, GoesThroughTheGapOfAWallAndKeepsClearOfItsEdges)
   EXPECT_TRUE(through_gap);
 }
 
+TEST(Planner, ABlockedDiscClosesAGapUntilItIsTakenAway)
+{
+  Map m;
+  m.wall(-0.1, -5.0, 0.1, -0.4);  // the wall with its 0.8 m gap at y in (-0.4, 0.4)
+  m.wall(-0.1, 0.4, 0.1, 5.0);
+  Planner planner(PlannerParams(), m.grid().width());
+  planner.setBlocked({ Disc{ 0.0, 0.0, 0.1 } });  // where the robot was refused, in the gap
+  planner.update(m.grid(), 0.0);
+  const Plan closed = planner.plan(m.grid(), -2.0, 0.0, 2.0, 0.0);
+  EXPECT_EQ(closed.status, PlanStatus::NO_PATH) << closed.text;
+  const Plan inside = planner.plan(m.grid(), -2.0, 0.0, 0.02, 0.02);
+  EXPECT_EQ(inside.status, PlanStatus::GOAL_BLOCKED) << inside.text;
+  planner.setBlocked({ Disc{ std::nan(""), 0.0, 0.1 }, Disc{ 0.0, 0.0, 0.0 }, Disc{ 50.0, 0.0, 1.0 } });  // ignored
+  planner.update(m.grid(), 0.0);
+  const Plan open = planner.plan(m.grid(), -2.0, 0.0, 2.0, 0.0);
+  EXPECT_EQ(open.status, PlanStatus::OK) << open.text;
+  EXPECT_NEAR(open.length, 4.0, 0.1);
+}
+
 TEST(Planner, AGoalInsideAnObstacleOrTooNearIsBlocked)
 {
   Map m;

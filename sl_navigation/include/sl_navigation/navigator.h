@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "sl_navigation/nav_grid.h"
 #include "sl_navigation/path_follower.h"
@@ -30,6 +31,9 @@ struct NavigatorParams
   double max_detour = 3.5;
   double stuck_time = 3.0;   ///< s commanding forward motion without moving 2 cm: look around (stuck_time)
   double look_around = 0.6;  ///< rad turned to each side when stuck, to let the camera see the sides (look_around)
+  /// s the planner takes the way ahead as blocked where the robot was stuck three times in the same
+  /// place (the safety filter refuses what the map shows passable); 0: never (refused_memory)
+  double refused_memory = 120.0;
   double map_timeout = 2.0;  ///< s without a local map before the robot stops (map_timeout)
 
   /// @throws std::invalid_argument naming the parameter.
@@ -87,7 +91,12 @@ struct NavOutput
  * When the robot does not move while it is told to go forward for stuck_time (the safety filter
  * refuses: the sides of the path just ahead are unseen, or something the local map shows), it looks
  * around: turns look_around to the left, to the right, and back (turning in place always passes the
- * filter), so that the camera sees the sides of the way ahead, then replans and drives on. setGoal() refuses at once
+ * filter), so that the camera sees the sides of the way ahead, then replans and drives on. Stuck
+ * again within 0.15 m of that place, it backs off 0.3 m along its trail (reverse passes the filter
+ * over the trail), faces the point it was refused, now far enough for the camera, and drives on;
+ * stuck a third time there, a disc of 0.1 m on the path just ahead of its body is taken as occupied
+ * by the planner for refused_memory (across goals), and it replans another way (or the goal ends as
+ * the planner finds none). setGoal() refuses at once
  * a non-finite goal or one outside the map. A new goal replaces the old one (which ends CANCELLED).
  */
 class Navigator
@@ -123,6 +132,10 @@ public:
   const NavigatorParams& params() const { return params_; }
   /// True once a local window arrived.
   bool hasMap() const { return has_map_; }
+  /// Places taken as blocked so far (stuck three times in the same place; see refused_memory).
+  std::size_t blockedPlaces() const { return blocked_places_; }
+  /// Back-offs along the trail so far (stuck twice in the same place).
+  std::size_t backoffs() const { return backoffs_; }
 
 private:
   void end(NavState state, const std::string& reason);
@@ -160,6 +173,38 @@ private:
   void checkStuck(const Pose& pose, double now);
   /// One step of the look-around; false once it is done.
   bool lookAround(const Pose& pose, double now);
+  /// Stuck a second time in one place: starts backing off along the trail; false when the trail
+  /// is too short for it.
+  bool startBackoff(const Pose& pose, double now);
+  /// One step of the back-off (turn so the trail lies behind, reverse along it, face the refused
+  /// point, wait look_time); false once it is over.
+  bool backoff(const Pose& pose, double now);
+  /// Stuck a third time in one place: blocks the way ahead for the planner and replans.
+  void blockAhead(const Pose& pose, double now);
+  /// The point of the path just beyond the robot's body (where the filter refused to go).
+  Point refusedPoint(const Pose& pose) const;
+  /// Keeps the last few metres the robot drove (the trail a back-off reverses along).
+  void recordTrail(const Pose& pose);
+  /// The blocked discs still within refused_memory, handed to the planner.
+  void pruneBlocked(double now);
+  struct Refused
+  {
+    Disc disc;
+    double until = 0.0;
+  };
+  std::vector<Refused> refused_;  // the ways blocked where the robot was stuck twice
+  Pose stuck_at_;                 // where the robot was first stuck in this place
+  double stuck_at_time_ = -std::numeric_limits<double>::infinity();
+  int stuck_count_ = 0;           // times stuck there: 1 look around, 2 back off, 3 block the way
+  std::vector<Point> trail_;      // positions the robot drove through, 0.05 m apart, newest last
+  int backoff_phase_ = 0;         // 0: none; 1 turn, 2 reverse, 3 face the refused point, 4 wait
+  Point backoff_target_;          // the trail point to reverse to
+  Point backoff_look_;            // the refused point to look at afterwards
+  double backoff_started_ = 0.0;  // start of the current phase
+  std::size_t backoffs_ = 0;
+  std::string blocked_text_;      // the last blockAhead(), said in the reason for a while
+  double blocked_time_ = -std::numeric_limits<double>::infinity();
+  std::size_t blocked_places_ = 0;
   int look_step_ = -1;          // -1: not looking around; else the index of the heading turned to
   double look_base_yaw_ = 0.0;  // the heading the look-around started from
   double look_started_ = 0.0;

@@ -51,6 +51,14 @@ enum class PlanStatus : std::uint8_t
 /// Short upper-case name of a status, e.g. "NO_PATH".
 const char* toString(PlanStatus status);
 
+/// A disc in odom (m) that the planner treats as occupied.
+struct Disc
+{
+  double x = 0.0;
+  double y = 0.0;
+  double radius = 0.0;
+};
+
 /// A planned path.
 struct Plan
 {
@@ -80,8 +88,12 @@ public:
   /// @throws std::invalid_argument for bad parameters.
   Planner(const PlannerParams& params, int width);
 
-  /// Takes the state of @p grid at @p now (obstacles, unknown cells, distances).
+  /// Takes the state of @p grid at @p now (obstacles, unknown cells, distances); the cells of the
+  /// blocked discs (setBlocked()) count as occupied.
   void update(const NavGrid& grid, double now);
+  /// Discs taken as occupied from the next update() on (places where the robot was refused that
+  /// the map shows passable); replaces the previous set.
+  void setBlocked(const std::vector<Disc>& discs) { blocked_ = discs; }
   /// Plans from (sx, sy) to (gx, gy) on the last update()'s state of @p grid.
   Plan plan(const NavGrid& grid, double sx, double sy, double gx, double gy);
 
@@ -106,7 +118,11 @@ private:
   bool insideObject(int gix, int giy) const;
   void extract(const NavGrid& grid, std::size_t start, std::size_t goal, Plan& out) const;
 
+  /// Marks the cells of the blocked discs occupied in cells_.
+  void applyBlocked(const NavGrid& grid);
+
   PlannerParams params_;
+  std::vector<Disc> blocked_;
   int n_ = 0;
   double resolution_ = 0.05;
   std::vector<float> dist_;         // m to the nearest obstacle (capped)

@@ -66,6 +66,7 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "max_detour", n.max_detour);
   get(pnh, "stuck_time", n.stuck_time);
   get(pnh, "look_around", n.look_around);
+  get(pnh, "refused_memory", n.refused_memory);
   get(pnh, "map_timeout", n.map_timeout);
   const std::string behaviour = sl_params::read(pnh, "behaviour", std::string("navigate"));
   p.cover = behaviour == "cover";

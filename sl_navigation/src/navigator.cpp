@@ -366,8 +366,8 @@ void Navigator::checkStuck(const Pose& pose, double now)
   }
   if (now - still_since_ >= params_.stuck_time && look_step_ < 0 && backoff_phase_ == 0)
   {
-    const bool same = now - stuck_at_time_ < kStuckAgain &&
-                      std::hypot(pose.x - stuck_at_.x, pose.y - stuck_at_.y) < kStuckPlace;
+    const bool same =
+        now - stuck_at_time_ < kStuckAgain && std::hypot(pose.x - stuck_at_.x, pose.y - stuck_at_.y) < kStuckPlace;
     stuck_count_ = same ? stuck_count_ + 1 : 1;
     stuck_at_time_ = now;
     if (!same)
@@ -484,7 +484,8 @@ bool Navigator::backoff(const Pose& pose, double now)
   out_.angular = 0.0;
   out_.mode = FollowMode::LOOK;
   const double to_target = std::hypot(backoff_target_.x - pose.x, backoff_target_.y - pose.y);
-  const double away = std::atan2(pose.y - backoff_target_.y, pose.x - backoff_target_.x);  // heading with the target behind
+  const double away =
+      std::atan2(pose.y - backoff_target_.y, pose.x - backoff_target_.x);  // heading with the target behind
   const double look = std::atan2(backoff_look_.y - pose.y, backoff_look_.x - pose.x);
   const bool timed_out = now - backoff_started_ > kBackoffTimeout;
   char text[200];
@@ -559,8 +560,9 @@ void Navigator::blockAhead(const Pose& pose, double now)
   told_to_drive_ = false;
   replan(pose, now, true);
   char text[200];
-  std::snprintf(text, sizeof(text), "stuck again at (%.2f, %.2f): the way through (%.2f, %.2f) taken as blocked for %.0f s",
-                pose.x, pose.y, c.x, c.y, params_.refused_memory);
+  std::snprintf(text, sizeof(text),
+                "stuck again at (%.2f, %.2f): the way through (%.2f, %.2f) taken as blocked for %.0f s", pose.x, pose.y,
+                c.x, c.y, params_.refused_memory);
   blocked_text_ = text;
   blocked_time_ = now;
   ++blocked_places_;

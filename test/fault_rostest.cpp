@@ -153,39 +153,34 @@ protected:
     return it == commands_diag_.end() ? -1.0 : it->second;
   }
 
+  /// The last sample from @p i on that lies within 1 mm of sample @p i before the robot moves on.
+  /// Caller holds mutex_.
+  size_t lastStill(size_t i) const
+  {
+    size_t k = i;
+    while (k + 1 < after_.size() && std::hypot(after_[k + 1].x - after_[i].x, after_[k + 1].y - after_[i].y) <= 1e-3)
+      ++k;
+    return k;
+  }
+
   /// The first stop after the fault: the index of the first sample from which the robot stays
   /// within 1 mm for 0.1 s (-1 if it never stops). Caller holds mutex_.
   int firstStop() const
   {
     for (size_t i = 0; i < after_.size(); ++i)
     {
-      bool still = false;
-      for (size_t j = i + 1; j < after_.size(); ++j)
-      {
-        if (std::hypot(after_[j].x - after_[i].x, after_[j].y - after_[i].y) > 1e-3)
-          break;
-        if (after_[j].t - after_[i].t >= 0.1)
-        {
-          still = true;
-          break;
-        }
-      }
-      if (still)
+      if (after_[lastStill(i)].t - after_[i].t >= 0.1)
         return static_cast<int>(i);
     }
     return -1;
   }
 
-  /// How long the robot stays within 1 mm of sample @p i, s (to the last sample if it never moves).
-  /// Caller holds mutex_.
+  /// How long the robot stays within 1 mm of sample @p i, s: to the sample where it moves on, or to
+  /// the last one. Caller holds mutex_.
   double stillFor(size_t i) const
   {
-    for (size_t j = i + 1; j < after_.size(); ++j)
-    {
-      if (std::hypot(after_[j].x - after_[i].x, after_[j].y - after_[i].y) > 1e-3)
-        return after_[j].t - after_[i].t;
-    }
-    return after_.empty() ? 0.0 : after_.back().t - after_[i].t;
+    const size_t k = lastStill(i);
+    return after_[k + 1 < after_.size() ? k + 1 : k].t - after_[i].t;
   }
 
   /// Path length of the samples after the fault up to index @p end (inclusive). Caller holds mutex_.

@@ -209,22 +209,14 @@ void NavGrid::markFree(double x, double y, double radius, double stamp)
     return;
   }
   const float t_rel = rel(stamp);
-  const int r = static_cast<int>(std::ceil(std::min(radius, params_.size) / params_.resolution)) + 1;
   bool changed = false;
-  const int cx = indexX(x);
-  const int cy = indexY(y);
-  for (int iy = std::max(0, cy - r); iy <= std::min(n_ - 1, cy + r); ++iy)
-  {
-    for (int ix = std::max(0, cx - r); ix <= std::min(n_ - 1, cx + r); ++ix)
-    {
-      if (std::hypot(centerX(ix) - x, centerY(iy) - y) <= radius)
-      {
-        changed |= state_[index(ix, iy)] != Cell::Free;
-        state_[index(ix, iy)] = Cell::Free;
-        seen_[index(ix, iy)] = t_rel;
-      }
-    }
-  }
+  forEachCellInDisc(x, y, radius,
+                    [&](int ix, int iy)
+                    {
+                      changed |= state_[index(ix, iy)] != Cell::Free;
+                      state_[index(ix, iy)] = Cell::Free;
+                      seen_[index(ix, iy)] = t_rel;
+                    });
   version_ += changed ? 1 : 0;
 }
 

@@ -457,15 +457,18 @@ void Navigator::recordTrail(const Pose& pose)
 bool Navigator::startBackoff(const Pose& pose, double now)
 {
   // The trail point kBackoffDistance back along the way the robot came.
-  double along = std::hypot(pose.x - (trail_.empty() ? pose.x : trail_.back().x),
-                            pose.y - (trail_.empty() ? pose.y : trail_.back().y));
+  if (trail_.empty())
+  {
+    return false;
+  }
+  double along = std::hypot(pose.x - trail_.back().x, pose.y - trail_.back().y);
   std::size_t i = trail_.size();
   while (i > 1 && along < kBackoffDistance)
   {
     --i;
     along += std::hypot(trail_[i].x - trail_[i - 1].x, trail_[i].y - trail_[i - 1].y);
   }
-  if (trail_.empty() || along < 0.5 * kBackoffDistance)
+  if (along < 0.5 * kBackoffDistance)
   {
     return false;
   }

@@ -179,19 +179,7 @@ void Planner::applyBlocked(const NavGrid& grid)
     {
       continue;
     }
-    const int reach = static_cast<int>(std::ceil(d.radius / resolution_));
-    const int cx = grid.indexX(d.x);
-    const int cy = grid.indexY(d.y);
-    for (int iy = std::max(0, cy - reach); iy <= std::min(n_ - 1, cy + reach); ++iy)
-    {
-      for (int ix = std::max(0, cx - reach); ix <= std::min(n_ - 1, cx + reach); ++ix)
-      {
-        if (std::hypot(grid.centerX(ix) - d.x, grid.centerY(iy) - d.y) <= d.radius)
-        {
-          cells_[index(ix, iy)] = Cell::Occupied;
-        }
-      }
-    }
+    grid.forEachCellInDisc(d.x, d.y, d.radius, [this](int ix, int iy) { cells_[index(ix, iy)] = Cell::Occupied; });
   }
 }
 

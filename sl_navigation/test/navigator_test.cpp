@@ -1,6 +1,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@ namespace
 {
 constexpr double kRadius = 0.1675;
 
-/// Runs the navigator on a kinematic robot in @p world until the goal ends or @p limit s pass.
+/// What a run of the navigator on a kinematic robot gave.
 struct LoopRun
 {
   NavState state = NavState::ACTIVE;
@@ -30,7 +31,12 @@ struct LoopRun
   Pose pose;
 };
 
-LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit)
+/// A safety filter's answer in the loop: the forward speed it lets through of (v, w) at a pose.
+using Filter = std::function<double(const Pose& pose, double v, double w)>;
+
+/// Runs the navigator on a kinematic robot in @p world until the goal ends or @p limit s pass; with
+/// @p filter, the speed it lets through is driven and given to the next step as the speed cap.
+LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit, const Filter& filter = Filter())
 {
   LoopRun r;
   std::vector<std::int8_t> memory, data;
@@ -38,6 +44,7 @@ LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit)
   const double dt = 0.05;
   double t = 100.0;
   const double start = t;
+  double cap = std::numeric_limits<double>::infinity();
   for (int k = 0; t - start < limit; ++k, t += dt)
   {
     if (k % 10 == 0)  // the obstacle node publishes its map at 2 Hz
@@ -45,7 +52,7 @@ LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit)
       world.sense(pose, memory, data, view);
       nav.onMap(view, t);
     }
-    const NavOutput& out = nav.step(pose, t);
+    const NavOutput& out = nav.step(pose, t, cap);
     if (out.state != NavState::ACTIVE)
     {
       r.state = out.state;
@@ -54,7 +61,9 @@ LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit)
     }
     r.mode_time[static_cast<int>(out.mode)] += dt;
     const Pose before = pose;
-    World::move(pose, out.linear, out.angular, dt);
+    const double v = filter ? filter(pose, out.linear, out.angular) : out.linear;
+    cap = filter ? v : cap;
+    World::move(pose, v, out.angular, dt);
     const double step = std::hypot(pose.x - before.x, pose.y - before.y);
     r.travelled += step;
     r.moving_time += step > 1e-4 ? dt : 0.0;
@@ -155,57 +164,38 @@ TEST(Navigator, TakesAnotherWayWhereTheSafetyFilterKeepsRefusing)
     p.refused_memory = refused_memory;
     Navigator nav(p);
     const NavGoal goal{ 2.0, 0.7, 0.0, false };
-    Pose pose;
-    pose.x = -2.0;
-    pose.y = 0.7;
+    Pose start;
+    start.x = -2.0;
+    start.y = 0.7;
     ASSERT_TRUE(nav.setGoal(goal, 100.0).empty());
-    std::vector<std::int8_t> memory, data;
-    OccupancyView view;
-    const double dt = 0.05;
-    double cap = std::numeric_limits<double>::infinity();
-    double nearest_door = 1e9, min_clearance = 1e9;
-    NavState state = NavState::ACTIVE;
-    std::string reason;
-    double t = 100.0;
-    for (int k = 0; t < 100.0 + 240.0 && state == NavState::ACTIVE; ++k, t += dt)
+    double nearest_door = 1e9;
+    const Filter refuse_door = [&](const Pose& pose, double v, double w)
     {
-      if (k % 10 == 0)
-      {
-        world.sense(pose, memory, data, view);
-        nav.onMap(view, t);
-      }
-      const NavOutput& out = nav.step(pose, t, cap);
-      state = out.state;
-      reason = out.reason;
-      double v = out.linear;
-      Pose ahead = pose;
-      World::move(ahead, v, out.angular, 0.25);
-      const bool nearer = std::hypot(ahead.x - door_x, ahead.y - door_y) < std::hypot(pose.x - door_x, pose.y - door_y);
-      if (v > 0.0 && nearer && std::hypot(ahead.x - door_x, ahead.y - door_y) < 0.45)
-      {
-        v = 0.0;  // the filter's refusal
-      }
-      cap = v;
-      World::move(pose, v, out.angular, dt);
       nearest_door = std::min(nearest_door, std::hypot(pose.x - door_x, pose.y - door_y));
-      min_clearance = std::min(min_clearance, world.clearance(pose.x, pose.y, kRadius));
-    }
+      Pose ahead = pose;
+      World::move(ahead, v, w, 0.25);
+      const double d = std::hypot(ahead.x - door_x, ahead.y - door_y);
+      const bool nearer = d < std::hypot(pose.x - door_x, pose.y - door_y);
+      return v > 0.0 && nearer && d < 0.45 ? 0.0 : v;  // the filter's refusal
+    };
+    const LoopRun r = drive(nav, world, start, 240.0, refuse_door);
+    nearest_door = std::min(nearest_door, std::hypot(r.pose.x - door_x, r.pose.y - door_y));
     std::printf("refused_memory %.0f s: %s after %.1f s at (%.2f, %.2f), %zu back-off(s), %zu place(s) blocked, "
                 "nearest the refused door %.2f m: %s\n",
-                refused_memory, toString(state), t - 100.0, pose.x, pose.y, nav.backoffs(), nav.blockedPlaces(),
-                nearest_door, reason.c_str());
+                refused_memory, toString(r.state), r.time, r.pose.x, r.pose.y, nav.backoffs(), nav.blockedPlaces(),
+                nearest_door, r.reason.c_str());
     EXPECT_GE(nav.backoffs(), 1u);
-    EXPECT_GT(min_clearance, 0.0);
+    EXPECT_GT(r.min_clearance, 0.0);
     EXPECT_GE(nearest_door, 0.44);
     if (refused_memory > 0.0)
     {
-      EXPECT_EQ(state, NavState::SUCCEEDED) << reason;
+      EXPECT_EQ(r.state, NavState::SUCCEEDED) << r.reason;
       EXPECT_GE(nav.blockedPlaces(), 1u);
-      EXPECT_LE(t - 100.0, 110.0);  // measured 90.1 s (one back-off, one place blocked, 9.0 m driven)
+      EXPECT_LE(r.time, 110.0);  // measured 90.1 s (one back-off, one place blocked, 9.0 m driven)
     }
     else
     {
-      EXPECT_NE(state, NavState::SUCCEEDED) << "without the memory the robot keeps trying the refused door";
+      EXPECT_NE(r.state, NavState::SUCCEEDED) << "without the memory the robot keeps trying the refused door";
       EXPECT_EQ(nav.blockedPlaces(), 0u);
     }
   }

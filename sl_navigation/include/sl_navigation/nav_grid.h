@@ -3,6 +3,8 @@
 /// node's rolling local map (ROS-free).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -68,6 +70,25 @@ public:
   bool fuse(const OccupancyView& view, double stamp);
   /// Marks the cells whose centre lies within @p radius of (x, y) free at @p stamp (the robot's body).
   void markFree(double x, double y, double radius, double stamp);
+  /// Calls @p f(ix, iy) for every cell of the map whose centre lies within @p radius of (x, y)
+  /// (finite arguments; the radius is capped at the map's size).
+  template <class F>
+  void forEachCellInDisc(double x, double y, double radius, F f) const
+  {
+    const int r = static_cast<int>(std::ceil(std::min(radius, params_.size) / params_.resolution)) + 1;
+    const int cx = indexX(x);
+    const int cy = indexY(y);
+    for (int iy = std::max(0, cy - r); iy <= std::min(n_ - 1, cy + r); ++iy)
+    {
+      for (int ix = std::max(0, cx - r); ix <= std::min(n_ - 1, cx + r); ++ix)
+      {
+        if (std::hypot(centerX(ix) - x, centerY(iy) - y) <= radius)
+        {
+          f(ix, iy);
+        }
+      }
+    }
+  }
 
   /// State of cell (ix, iy) at @p now; Unknown outside the map.
   Cell cell(int ix, int iy, double now) const;

@@ -374,11 +374,14 @@ void Navigator::checkStuck(const Pose& pose, double now)
     {
       stuck_at_ = pose;
     }
-    if (stuck_count_ == 2 && startBackoff(pose, now))
+    // The goal itself is never taken as blocked: where the refused way ends at the goal, the robot
+    // backs off again and looks (progress_timeout ends a goal it never gets to).
+    const bool way_is_goal = blocksGoal(refusedPoint(pose));
+    if ((stuck_count_ == 2 || (stuck_count_ > 2 && way_is_goal)) && startBackoff(pose, now))
     {
       return;
     }
-    if (stuck_count_ >= 2 && params_.refused_memory > 0.0)
+    if (stuck_count_ >= 2 && !way_is_goal && params_.refused_memory > 0.0)
     {
       blockAhead(pose, now);
       return;
@@ -439,6 +442,12 @@ Point Navigator::refusedPoint(const Pose& pose) const
     }
   }
   return Point{ goal_.x, goal_.y };
+}
+
+bool Navigator::blocksGoal(const Point& c) const
+{
+  // A blocked disc is occupied: the planner keeps the robot's centre lethalDistance() off it.
+  return std::hypot(c.x - goal_.x, c.y - goal_.y) < kBlockedRadius + params_.planner.lethalDistance() + 0.05;
 }
 
 void Navigator::recordTrail(const Pose& pose)

@@ -201,6 +201,53 @@ TEST(Navigator, TakesAnotherWayWhereTheSafetyFilterKeepsRefusing)
   }
 }
 
+TEST(Navigator, NeverTakesTheGoalItselfAsBlocked)
+{
+  // The safety filter refuses the last 0.5 m to the goal for a while (as it does while the floor
+  // there is still unknown to its map). Stuck again and again before the goal, the robot backs off
+  // and looks again, but never blocks the way there: a blocked disc at the goal would make the goal
+  // unplannable and end it ("0.00 m from an obstacle") though nothing stands there. Where the filter
+  // never relents, progress_timeout ends the goal.
+  World world;
+  world.box(-3.0, -2.6, 3.0, -2.5);
+  world.box(-3.0, 2.5, 3.0, 2.6);
+  world.box(-3.1, -2.6, -3.0, 2.6);
+  world.box(3.0, -2.6, 3.1, 2.6);
+  const NavGoal goal{ 1.0, 0.3, 0.0, false };
+  for (const double relent : { 60.0, std::numeric_limits<double>::infinity() })  // s until the filter lets it through
+  {
+    Navigator nav(params());
+    Pose start;
+    start.x = -1.5;
+    ASSERT_TRUE(nav.setGoal(goal, 100.0).empty());
+    double elapsed = 0.0;
+    const Filter refuse_goal = [&](const Pose& pose, double v, double w)
+    {
+      elapsed += 0.05;
+      Pose ahead = pose;
+      World::move(ahead, v, w, 0.25);
+      const double d = std::hypot(ahead.x - goal.x, ahead.y - goal.y);
+      const bool nearer = d < std::hypot(pose.x - goal.x, pose.y - goal.y);
+      return elapsed < relent && v > 0.0 && nearer && d < 0.5 ? 0.0 : v;
+    };
+    const LoopRun r = drive(nav, world, start, 240.0, refuse_goal);
+    std::printf("refused before the goal for %.0f s: %s after %.1f s, %zu back-off(s), %zu place(s) blocked: %s\n",
+                relent, toString(r.state), r.time, nav.backoffs(), nav.blockedPlaces(), r.reason.c_str());
+    EXPECT_EQ(nav.blockedPlaces(), 0u);
+    EXPECT_GE(nav.backoffs(), 2u);
+    EXPECT_GT(r.min_clearance, 0.0);
+    EXPECT_EQ(r.reason.find("from an obstacle"), std::string::npos) << r.reason;
+    if (std::isfinite(relent))
+    {
+      EXPECT_EQ(r.state, NavState::SUCCEEDED) << r.reason;
+    }
+    else
+    {
+      EXPECT_EQ(r.state, NavState::ABORTED) << r.reason;
+    }
+  }
+}
+
 TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
 {
   const World world = furnishedRooms();

@@ -179,10 +179,13 @@ private:
   /// One step of the back-off (turn so the trail lies behind, reverse along it, face the refused
   /// point, wait look_time); false once it is over.
   bool backoff(const Pose& pose, double now);
-  /// Stuck a third time in one place: blocks the way ahead for the planner and replans.
+  /// Stuck a third time in one place (the way not ending at the goal): blocks the way ahead for
+  /// the planner and replans.
   void blockAhead(const Pose& pose, double now);
   /// The point of the path just beyond the robot's body (where the filter refused to go).
   Point refusedPoint(const Pose& pose) const;
+  /// True when a blocked disc at @p c would make the goal itself unplannable.
+  bool blocksGoal(const Point& c) const;
   /// Keeps the last few metres the robot drove (the trail a back-off reverses along).
   void recordTrail(const Pose& pose);
   /// The blocked discs still within refused_memory, handed to the planner.

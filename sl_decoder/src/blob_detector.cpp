@@ -471,16 +471,9 @@ void BlobDetector::splitOversized(const cv::Mat& image, const Region& component,
   // Fractions of the component's grey range, from just above the local threshold to near its peak.
   static constexpr float kLevels[kLastLevel] = { 0.5f, 0.65f, 0.78f, 0.88f, 0.95f };
   const Blob& box = component.box;
-  int lo = 255, hi = 0;
-  for (int y = box.y0; y < box.y1; ++y)
-  {
-    const uint8_t* row = image.ptr<uint8_t>(y);
-    for (int x = box.x0; x < box.x1; ++x)
-    {
-      lo = std::min(lo, static_cast<int>(row[x]));
-      hi = std::max(hi, static_cast<int>(row[x]));
-    }
-  }
+  double lo_value = 0.0, hi_value = 0.0;  // the box's darkest and brightest pixel
+  cv::minMaxIdx(image(cv::Rect(box.x0, box.y0, box.width(), box.height())), &lo_value, &hi_value);
+  const int lo = static_cast<int>(lo_value), hi = static_cast<int>(hi_value);
   pending_.clear();
   pending_.push_back(component);
   pending_.back().box.level = 0;
@@ -555,23 +548,48 @@ bool BlobDetector::cutByPitch(const cv::Mat& image, const Blob& part, int thresh
 
 namespace
 {
-// Where the column x crosses @p t going outwards from row y_in (up for step -1, down for +1), with
-// linear interpolation between the two pixels; NaN if not within @p reach rows.
-float edgeAt(const cv::Mat& image, int x, int y_in, int step, int reach, int t)
+// Where each column x0 + i, i in [i0, i1), crosses @p t going outwards from row y_in (up for step
+// -1, down for +1), with linear interpolation between the two pixels, into edge[i]; NaN if not
+// within @p reach rows. The columns are walked side by side, row after row: a column walk's
+// unpredictable end per column cost more than the rows it saves.
+void edgesFrom(const cv::Mat& image, int x0, int i0, int i1, int y_in, int step, int reach, int t, float* edge)
 {
-  int prev = image.ptr<uint8_t>(y_in)[x];
-  for (int k = 1; k <= reach; ++k)
+  std::fill(edge + i0, edge + i1, std::numeric_limits<float>::quiet_NaN());
+  const int last = std::min(reach, step < 0 ? y_in : image.rows - 1 - y_in);
+  const uint8_t* prev_row = image.ptr<uint8_t>(y_in) + x0;
+  int open = i1 - i0;  // columns without an edge yet
+  for (int k = 1; k <= last && open > 0; ++k)
   {
     const int y = y_in + step * k;
-    if (y < 0 || y >= image.rows)
-      break;
-    const int v = image.ptr<uint8_t>(y)[x];
-    if (v <= t && prev > t)
-      return static_cast<float>(y - step) +
-             static_cast<float>(step) * static_cast<float>(prev - t) / static_cast<float>(prev - v);
-    prev = v;
+    const uint8_t* row = image.ptr<uint8_t>(y) + x0;
+    auto cross = [&](int i)  // column i goes below t between prev_row and row
+    {
+      if (!std::isnan(edge[i]))
+        return;
+      const int v = row[i], prev = prev_row[i];
+      edge[i] = static_cast<float>(y - step) +
+                static_cast<float>(step) * static_cast<float>(prev - t) / static_cast<float>(prev - v);
+      --open;
+    };
+    int i = i0;
+#if defined(__SSE2__)
+    // 16 columns at a time (few cross in a row): unsigned bytes compared as signed after flipping the top bit.
+    const __m128i bias = _mm_set1_epi8(static_cast<char>(0x80));
+    const __m128i tt = _mm_set1_epi8(static_cast<char>(t ^ 0x80));
+    for (; i + 16 <= i1; i += 16)
+    {
+      const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + i)), bias);
+      const __m128i prev = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(prev_row + i)), bias);
+      for (int bits = _mm_movemask_epi8(_mm_andnot_si128(_mm_cmpgt_epi8(v, tt), _mm_cmpgt_epi8(prev, tt))); bits != 0;
+           bits &= bits - 1)
+        cross(i + __builtin_ctz(static_cast<unsigned>(bits)));
+    }
+#endif
+    for (; i < i1; ++i)
+      if (row[i] <= t && prev_row[i] > t)
+        cross(i);
+    prev_row = row;
   }
-  return std::numeric_limits<float>::quiet_NaN();
 }
 }  // namespace
 
@@ -591,16 +609,23 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
   const int reach = static_cast<int>(std::ceil(primitive_h_));
   top_.resize(static_cast<size_t>(n));
   bottom_.resize(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i)
+  // Outwards from the band's centre line, over the columns that share its row.
+  auto midRow = [&](int i)
+  { return std::min(band.y1 - 1, std::max(band.y0, static_cast<int>(y_centre + slope_ * (band.x0 + i - x_centre)))); };
+  for (int i0 = 0; i0 < n;)
   {
-    const int x = band.x0 + i;
-    const int y_mid = std::min(band.y1 - 1, std::max(band.y0, static_cast<int>(y_centre + slope_ * (x - x_centre))));
-    top_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, -1, reach, t);
-    bottom_[static_cast<size_t>(i)] = edgeAt(image, x, y_mid, 1, reach, t);
+    const int y_mid = midRow(i0);
+    int i1 = i0 + 1;
+    while (i1 < n && midRow(i1) == y_mid)
+      ++i1;
+    edgesFrom(image, band.x0, i0, i1, y_mid, -1, reach, t, top_.data());
+    edgesFrom(image, band.x0, i0, i1, y_mid, 1, reach, t, bottom_.data());
+    i0 = i1;
   }
   // The phase of the height profile at the pattern's pitch, over +-3 pitches around x: from prefix
   // sums of its products with the cosine and sine (one pair of them per column, not per window).
   const double omega = 2.0 * M_PI / pitch_;
+  formWaveTable(omega, image.cols);
   phase_re_.resize(static_cast<size_t>(n) + 1);
   phase_im_.resize(static_cast<size_t>(n) + 1);
   phase_re_[0] = phase_im_[0] = 0.0;
@@ -608,9 +633,9 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
   {
     const float h = bottom_[static_cast<size_t>(i)] - top_[static_cast<size_t>(i)];
     const bool finite = std::isfinite(h);
-    const double a = omega * (band.x0 + i);
-    phase_re_[static_cast<size_t>(i) + 1] = phase_re_[static_cast<size_t>(i)] + (finite ? h * std::cos(a) : 0.0);
-    phase_im_[static_cast<size_t>(i) + 1] = phase_im_[static_cast<size_t>(i)] + (finite ? h * std::sin(a) : 0.0);
+    const size_t x = static_cast<size_t>(band.x0 + i);
+    phase_re_[static_cast<size_t>(i) + 1] = phase_re_[static_cast<size_t>(i)] + (finite ? h * cos_[x] : 0.0);
+    phase_im_[static_cast<size_t>(i) + 1] = phase_im_[static_cast<size_t>(i)] + (finite ? h * sin_[x] : 0.0);
   }
   auto centreNear = [&](double x)
   {
@@ -672,82 +697,132 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
   }
 }
 
-namespace
+void BlobDetector::formWaveTable(double omega, int cols)
 {
-// bits[i / 64] bit i % 64 = (row[i] > threshold) for i < n.
-void maskAbove(const uint8_t* row, int n, int threshold, uint64_t* bits)
-{
-  std::fill(bits, bits + (n + 63) / 64, uint64_t{ 0 });
-  int i = 0;
-#if defined(__SSE2__)
-  // Unsigned bytes compared as signed after flipping the top bit; i is a multiple of 16, so a group
-  // never straddles two words.
-  const __m128i bias = _mm_set1_epi8(static_cast<char>(0x80));
-  const __m128i t = _mm_set1_epi8(static_cast<char>(threshold ^ 0x80));
-  for (; i + 16 <= n; i += 16)
+  // The same for every band of every image until the pitch changes: formed once, not per column per band.
+  if (wave_omega_ == omega && cos_.size() == static_cast<size_t>(cols))
+    return;
+  wave_omega_ = omega;
+  cos_.resize(static_cast<size_t>(cols));
+  sin_.resize(static_cast<size_t>(cols));
+  for (int x = 0; x < cols; ++x)
   {
-    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + i)), bias);
-    const uint64_t m = static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpgt_epi8(v, t)));
-    bits[i >> 6] |= m << (i & 63);
+    const double a = omega * x;
+    cos_[static_cast<size_t>(x)] = std::cos(a);
+    sin_[static_cast<size_t>(x)] = std::sin(a);
   }
-#endif
-  for (; i < n; ++i)
-    if (row[i] > threshold)
-      bits[i >> 6] |= uint64_t{ 1 } << (i & 63);
 }
 
-// The first index >= i below n whose bit equals @p set, or n.
-int nextBit(const uint64_t* bits, int n, int i, bool set)
+namespace
 {
-  while (i < n)
+// Bit i = (p[i] > threshold) for i < min(n, 64), the rest clear. All 64 bytes are read (one vector
+// pass, no branch per pixel) when they lie before @p limit, the end of the image's buffer.
+inline uint64_t maskAbove64(const uint8_t* p, int n, int threshold, const uint8_t* limit)
+{
+  const uint64_t valid = n >= 64 ? ~uint64_t{ 0 } : (uint64_t{ 1 } << n) - 1;
+#if defined(__SSE2__)
+  if (limit - p >= 64)
   {
-    uint64_t w = bits[i >> 6];
-    if (!set)
-      w = ~w;
-    w &= ~uint64_t{ 0 } << (i & 63);
-    if (w != 0)
-      return std::min(n, (i & ~63) + __builtin_ctzll(w));
-    i = (i & ~63) + 64;
+    // Unsigned bytes compared as signed after flipping the top bit.
+    const __m128i bias = _mm_set1_epi8(static_cast<char>(0x80));
+    const __m128i t = _mm_set1_epi8(static_cast<char>(threshold ^ 0x80));
+    uint64_t m = 0;
+    for (int i = 0; i < 64; i += 16)
+    {
+      const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p + i)), bias);
+      m |= static_cast<uint64_t>(static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpgt_epi8(v, t)))) << i;
+    }
+    return m & valid;
   }
-  return n;
+#endif
+  uint64_t m = 0;
+  for (int i = 0; i < std::min(n, 64); ++i)
+    m |= static_cast<uint64_t>(p[i] > threshold) << i;
+  return m;
 }
 }  // namespace
+
+inline BlobDetector::Run* BlobDetector::runsAbove(const cv::Mat& image, const Span& span, int threshold, Run* out)
+{
+  // 64 pixels at a time; runs start and end where the mask changes (as in extractRuns()).
+  const uint8_t* row = image.ptr<uint8_t>(span.y) + span.x0;
+  const int n = span.x1 - span.x0;
+  split_pixels_ += n;
+  if (n <= 64)
+  {
+    // One word (most spans): each run is a block of ones, from its first one to the next zero.
+    uint64_t m = maskAbove64(row, n, threshold, image.datalimit);
+    while (m != 0)
+    {
+      const int a = __builtin_ctzll(m);
+      const uint64_t beyond = ~m & (~uint64_t{ 0 } << a);  // the zeros from a on
+      const int b = beyond != 0 ? __builtin_ctzll(beyond) : 64;
+      *out++ = splitRun(span.y, span.x0 + a, span.x0 + std::min(b, n));
+      m &= b < 64 ? ~uint64_t{ 0 } << b : 0;
+    }
+    return out;
+  }
+  uint64_t carry = 0;
+  int x0 = -1;
+  for (int k = 0; k < n; k += 64)
+  {
+    const uint64_t m = maskAbove64(row + k, n - k, threshold, image.datalimit);
+    uint64_t t = m ^ (m << 1 | carry);
+    carry = m >> 63;
+    for (; t != 0; t &= t - 1)
+    {
+      const int x = span.x0 + k + __builtin_ctzll(t);
+      if (x0 < 0)
+        x0 = x;
+      else
+      {
+        *out++ = splitRun(span.y, x0, x);
+        x0 = -1;
+      }
+    }
+  }
+  if (x0 >= 0)
+    *out++ = splitRun(span.y, x0, span.x1);
+  return out;
+}
+
+inline BlobDetector::Run BlobDetector::splitRun(int y, int x0, int x1)
+{
+  Run run;
+  run.y = y;
+  run.x0 = x0;
+  run.x1 = x1;
+  run.parent = -1;  // its label: linkLabels()
+  run.peak = 0.f;   // not used in splitting
+  return run;
+}
 
 void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int threshold)
 {
   // Runs above the threshold inside the region's spans, row by row, joined 8-connected by
-  // union-find as in detect() (whose run buffers are free again by now).
+  // union-find over labels (whose run buffers are free again by now).
   parts_.clear();
   runs_.clear();
-  bits_.resize(static_cast<size_t>((region.box.width() + 63) / 64) + 1);
+  labels_.clear();
   int prev_begin = 0, prev_end = 0, prev_y = -2;
   for (int s = region.begin; s < region.end;)
   {
     const int y = spans_[static_cast<size_t>(s)].y;
-    const uint8_t* row = image.ptr<uint8_t>(y);
+    // The row's spans [s, e); at most a run per two pixels of each (Run() is empty: no writes).
+    int e = s;
+    size_t most = 0;
+    for (; e < region.end && spans_[static_cast<size_t>(e)].y == y; ++e)
+      most += static_cast<size_t>(spans_[static_cast<size_t>(e)].x1 - spans_[static_cast<size_t>(e)].x0 + 1) / 2;
     const int cur_begin = static_cast<int>(runs_.size());
-    for (; s < region.end && spans_[static_cast<size_t>(s)].y == y; ++s)
-    {
-      const Span span = spans_[static_cast<size_t>(s)];
-      const int n = span.x1 - span.x0;
-      split_pixels_ += n;
-      maskAbove(row + span.x0, n, threshold, bits_.data());
-      for (int x = nextBit(bits_.data(), n, 0, true); x < n; x = nextBit(bits_.data(), n, x, true))
-      {
-        const int end = nextBit(bits_.data(), n, x, false);
-        runs_.emplace_back();
-        Run& run = runs_.back();
-        run.y = y;
-        run.x0 = span.x0 + x;
-        run.x1 = span.x0 + end;
-        run.parent = static_cast<int32_t>(runs_.size() - 1);
-        x = end;
-      }
-    }
+    runs_.resize(runs_.size() + most);
+    Run* out = runs_.data() + cur_begin;
+    for (; s < e; ++s)
+      out = runsAbove(image, spans_[static_cast<size_t>(s)], threshold, out);
+    runs_.resize(static_cast<size_t>(out - runs_.data()));
     const int cur_end = static_cast<int>(runs_.size());
     if (prev_y != y - 1)  // a row of the region without pixels lies between
       prev_begin = prev_end = cur_begin;
-    linkRows(prev_begin, prev_end, cur_begin, cur_end);
+    linkLabels(prev_begin, prev_end, cur_begin, cur_end);
     prev_begin = cur_begin;
     prev_end = cur_end;
     prev_y = y;
@@ -755,14 +830,54 @@ void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int th
   groupRunsIntoParts();
 }
 
+inline int BlobDetector::findLabel(int l)
+{
+  while (labels_[static_cast<size_t>(l)] != l)
+  {
+    int32_t& parent = labels_[static_cast<size_t>(l)];
+    parent = labels_[static_cast<size_t>(parent)];  // path halving
+    l = parent;
+  }
+  return l;
+}
+
+void BlobDetector::linkLabels(int prev_begin, int prev_end, int cur_begin, int cur_end)
+{
+  // The sweep of linkRows(), but a run takes the label of the first run above it that it touches
+  // (or a new one), and labels that meet are united: the union-find runs over the few labels (hot
+  // in cache), not over every run.
+  int p = prev_begin;
+  for (int c = cur_begin; c < cur_end; ++c)
+  {
+    Run& cr = runs_[static_cast<size_t>(c)];
+    while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
+      ++p;
+    int q = p;
+    if (q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1)
+      cr.parent = findLabel(runs_[static_cast<size_t>(q++)].parent);
+    else
+    {
+      cr.parent = static_cast<int32_t>(labels_.size());
+      labels_.push_back(cr.parent);
+    }
+    for (; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
+    {
+      const int a = findLabel(cr.parent), b = findLabel(runs_[static_cast<size_t>(q)].parent);
+      cr.parent = std::min(a, b);
+      labels_[static_cast<size_t>(std::max(a, b))] = cr.parent;
+    }
+  }
+}
+
 void BlobDetector::groupRunsIntoParts()
 {
-  // Boxes, areas and run counts, then the runs copied into spans_ grouped by part.
-  blob_of_root_.assign(runs_.size(), -1);
+  // Boxes, areas and run counts, then the runs copied into spans_ grouped by part. Parts are
+  // numbered in the order of their first run.
+  part_of_label_.assign(labels_.size(), -1);
   part_of_run_.resize(runs_.size());
   for (size_t i = 0; i < runs_.size(); ++i)
   {
-    int32_t& index = blob_of_root_[static_cast<size_t>(find(static_cast<int>(i)))];
+    int32_t& index = part_of_label_[static_cast<size_t>(findLabel(runs_[i].parent))];
     const Run& run = runs_[i];
     if (index < 0)
     {
@@ -786,52 +901,55 @@ void BlobDetector::groupRunsIntoParts()
 
 bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) const
 {
-  double sw = 0.0, swx = 0.0, swy = 0.0;
+  // Integer sums: exact, so the same as summing in double (every partial sum is far below 2^53).
+  int64_t sw = 0, swx = 0, swy = 0;
   int peak = 0;
   for (int y = b.y0; y < b.y1; ++y)
   {
     const uint8_t* row = image.ptr<uint8_t>(y);
+    int64_t row_w = 0;
     for (int x = b.x0; x < b.x1; ++x)
     {
-      const int w = static_cast<int>(row[x]) - threshold;
-      if (w <= 0)
-        continue;
-      sw += w;
-      swx += static_cast<double>(w) * x;
-      swy += static_cast<double>(w) * y;
+      const int w = std::max(0, static_cast<int>(row[x]) - threshold);
+      row_w += w;
+      swx += static_cast<int64_t>(w) * x;
       peak = std::max(peak, w);
     }
+    sw += row_w;
+    swy += row_w * y;
   }
-  if (sw <= 0.0)
-    return false;
-  b.u = static_cast<float>(swx / sw);
-  b.v = static_cast<float>(swy / sw);
-  b.contrast = static_cast<float>(peak);
-  return true;
+  return setWeighted(sw, swx, swy, peak, b);
 }
 
 bool BlobDetector::weighAbove(const cv::Mat& image, Region& part, int threshold) const
 {
-  double sw = 0.0, swx = 0.0, swy = 0.0;
+  int64_t sw = 0, swx = 0, swy = 0;  // exact, as above
   int peak = 0;
   for (int s = part.begin; s < part.end; ++s)
   {
     const Span& span = spans_[static_cast<size_t>(s)];
     const uint8_t* row = image.ptr<uint8_t>(span.y);
+    int64_t span_w = 0;
     for (int x = span.x0; x < span.x1; ++x)
     {
       const int w = static_cast<int>(row[x]) - threshold;  // > 0: the part is above the threshold
-      sw += w;
-      swx += static_cast<double>(w) * x;
-      swy += static_cast<double>(w) * span.y;
+      span_w += w;
+      swx += static_cast<int64_t>(w) * x;
       peak = std::max(peak, w);
     }
+    sw += span_w;
+    swy += span_w * span.y;
   }
-  if (sw <= 0.0)
+  return setWeighted(sw, swx, swy, peak, part.box);
+}
+
+bool BlobDetector::setWeighted(int64_t sw, int64_t swx, int64_t swy, int peak, Blob& b)
+{
+  if (sw <= 0)
     return false;
-  part.box.u = static_cast<float>(swx / sw);
-  part.box.v = static_cast<float>(swy / sw);
-  part.box.contrast = static_cast<float>(peak);
+  b.u = static_cast<float>(static_cast<double>(swx) / static_cast<double>(sw));
+  b.v = static_cast<float>(static_cast<double>(swy) / static_cast<double>(sw));
+  b.contrast = static_cast<float>(peak);
   return true;
 }
 

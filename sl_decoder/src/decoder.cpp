@@ -95,6 +95,11 @@ Decoder::Decoder(const sl_projector::Rig& rig, const DecoderConfig& config)
   const double dx = index_->stepEast().x(), slope = std::abs(dx) > 1e-6 ? index_->stepEast().y() / dx : 0.0;
   detector_.setPrimitiveSize(primitiveWidth(), index_->stepSouth().norm() * pc.primitive_height / pc.cellHeight(),
                              std::abs(dx), slope);
+  // Shape centroids below the box centre (pattern px) of outline cells: fixed per shape, and
+  // rendering a bitmap per cell cost more than the rest of the cell's decoding.
+  for (int v = 1; v <= 4; ++v)
+    band_cell_offset_[static_cast<size_t>(v)] =
+        sl_projector::shapeCentroid(v, pc.primitive_width, pc.primitive_height).y - 0.5 * (pc.primitive_height - 1);
   grid_cell_ = std::max(4.0, 0.75 * std::min(index_->stepEast().norm(), index_->stepSouth().norm()));
   grid_w_ = static_cast<int>(std::ceil(rig.camera.width / grid_cell_)) + 1;
   grid_h_ = static_cast<int>(std::ceil(rig.camera.height / grid_cell_)) + 1;
@@ -193,8 +198,7 @@ void Decoder::placeBandCell(Blob& b) const
     b.shape = kMirrorY[b.shape];
   // From the box centre to the shape's centroid, which is what the decoder locates.
   const sl_projector::PatternConfig& pc = rig_.pattern;
-  const double offset =
-      sl_projector::shapeCentroid(b.shape, pc.primitive_width, pc.primitive_height).y - 0.5 * (pc.primitive_height - 1);
+  const double offset = band_cell_offset_[static_cast<size_t>(b.shape)];
   b.v += static_cast<float>(offset * index_->stepSouth().y() / pc.cellHeight());
 }
 

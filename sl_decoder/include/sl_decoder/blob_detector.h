@@ -193,14 +193,27 @@ private:
   bool cutByPitch(const cv::Mat& image, const Blob& part, int threshold, std::vector<Blob>& blobs);
   /// Places and identifies the primitives of a saturated row from its outline at grey level @p t.
   void cellsOfBand(const cv::Mat& image, const Blob& band, int t, std::vector<Blob>& blobs);
+  /// Sets cos_, sin_ to the cosine and sine of @p omega x for the columns x of an image @p cols wide.
+  void formWaveTable(double omega, int cols);
   /// Centroid (weights above @p threshold) and contrast of the pixels of @p b's box; false if none.
   bool weighAbove(const cv::Mat& image, Blob& b, int threshold) const;
   /// The same over the pixels of @p part only (neighbours' light in its box does not pull it).
   bool weighAbove(const cv::Mat& image, Region& part, int threshold) const;
+  /// Sets @p b's centroid (weight sums @p sw, @p swx, @p swy) and contrast (@p peak); false if @p sw is 0.
+  static bool setWeighted(int64_t sw, int64_t swx, int64_t swy, int peak, Blob& b);
   /// Labels the pixels of @p region above @p threshold (8-connected); the parts (box, area and
   /// their pixels, appended to spans_) go to parts_.
   void labelAbove(const cv::Mat& image, const Region& region, int threshold);
-  /// Forms parts_ from the linked runs_ and appends their pixels to spans_.
+  /// Writes the runs of @p span's pixels above @p threshold at @p out; returns the end of them.
+  inline Run* runsAbove(const cv::Mat& image, const Span& span, int threshold, Run* out);
+  /// The run [x0, x1) of row @p y, not yet labelled.
+  static inline Run splitRun(int y, int x0, int x1);
+  /// The root of label @p l in labels_ (path halving).
+  inline int findLabel(int l);
+  /// Gives the runs [cur_begin, cur_end) of a row a label (Run::parent): that of the 8-connected
+  /// runs of the row above, united in labels_, or a new one.
+  void linkLabels(int prev_begin, int prev_end, int cur_begin, int cur_end);
+  /// Forms parts_ from the labelled runs_ and appends their pixels to spans_.
   void groupRunsIntoParts();
   /// Appends the runs of each region (part_of_run_: its index in @p regions, or -1; each region's
   /// end: its run count) to spans_ and sets the regions' [begin, end).
@@ -218,7 +231,8 @@ private:
   std::vector<local_threshold::RowConstants> row_constants_;  // per window row count (lazily each image)
   std::vector<uint8_t> row_constants_set_;                    // per window row count: formed this image
   std::vector<Run> runs_;
-  std::vector<int32_t> blob_of_root_;
+  std::vector<int32_t> labels_;          // union-find over the labels of labelAbove()
+  std::vector<int32_t> part_of_label_;   // per root label: its part
   std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)
   cv::Mat image_;                        // the image of the last detectBoxes(), for centroids()
   std::vector<int32_t> box_sums_;        // integral image around one blob (integrateAround())
@@ -231,6 +245,8 @@ private:
   static constexpr float kBandMinMargin = 0.3f;  // px between the lopsided and the straight edge
   std::vector<float> top_, bottom_;              // outline of a saturated band per column, px
   std::vector<double> phase_re_, phase_im_;      // prefix sums of its height times cos, sin
+  std::vector<double> cos_, sin_;                // cos, sin of the pitch's phase per column (formWaveTable())
+  double wave_omega_ = 0.0;                      // the angular frequency they were formed for
   // Splitting of oversized components (buffers reused).
   std::vector<Region> oversized_, pending_, parts_;
   std::vector<Span> spans_;                   // pixels of the regions above

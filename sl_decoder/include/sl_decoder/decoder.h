@@ -228,9 +228,10 @@ private:
   BlobDetector detector_;
   ShapeClassifier classifier_;
   // Per-primitive geometry, fixed for the rig.
-  std::vector<uint8_t> edges_;          // Candidate::edges of each primitive
-  int adjacent_step_[4] = {};           // index step to the adjacent primitive per Direction
-  std::vector<double> dir_dot_origin_;  // projectorDirection(p) . projectorOrigin()
+  std::vector<uint8_t> edges_;                // Candidate::edges of each primitive
+  int adjacent_step_[4] = {};                 // index step to the adjacent primitive per Direction
+  std::vector<double> dir_dot_origin_;        // projectorDirection(p) . projectorOrigin()
+  std::array<double, 5> band_cell_offset_{};  // per shape 1..4: placeBandCell()'s centroid offset, pattern px
   // Per-frame work buffers.
   std::vector<int32_t> cand_begin_;  // blobs + 1
   std::vector<Candidate> cands_;

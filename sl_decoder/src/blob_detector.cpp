@@ -420,19 +420,39 @@ void BlobDetector::collectSpans()
   spans_.clear();
   if (oversized_.empty())
     return;
-  // Region after region, each one's runs in row order (they lie between its first and last run).
+  // Each region's runs in row order, region after region: a counting sort over the runs between
+  // the regions' first and last run (one pass to count, one to place), not a pass per region.
+  region_of_component_.assign(boxes_.size(), -1);
+  int32_t first = std::numeric_limits<int32_t>::max(), last = -1;
   for (size_t k = 0; k < oversized_.size(); ++k)
   {
-    const int32_t c = oversized_component_[k];
-    const Box& box = boxes_[static_cast<size_t>(c)];
-    oversized_[k].begin = static_cast<int32_t>(spans_.size());
-    for (int32_t i = box.first; i <= box.last; ++i)
-      if (component_of_[static_cast<size_t>(i)] == c)
-      {
-        const Run& run = runs_[static_cast<size_t>(i)];
-        spans_.push_back(Span{ run.y, run.x0, run.x1 });
-      }
-    oversized_[k].end = static_cast<int32_t>(spans_.size());
+    const Box& box = boxes_[static_cast<size_t>(oversized_component_[k])];
+    region_of_component_[static_cast<size_t>(oversized_component_[k])] = static_cast<int32_t>(k);
+    first = std::min(first, box.first);
+    last = std::max(last, box.last);
+    oversized_[k].end = 0;
+  }
+  for (int32_t i = first; i <= last; ++i)
+  {
+    const int32_t k = region_of_component_[static_cast<size_t>(component_of_[static_cast<size_t>(i)])];
+    if (k >= 0)
+      ++oversized_[static_cast<size_t>(k)].end;
+  }
+  int32_t next = 0;
+  for (Region& r : oversized_)
+  {
+    r.begin = next;
+    next += r.end;
+    r.end = r.begin;
+  }
+  spans_.resize(static_cast<size_t>(next));
+  for (int32_t i = first; i <= last; ++i)
+  {
+    const int32_t k = region_of_component_[static_cast<size_t>(component_of_[static_cast<size_t>(i)])];
+    if (k < 0)
+      continue;
+    const Run& run = runs_[static_cast<size_t>(i)];
+    spans_[static_cast<size_t>(oversized_[static_cast<size_t>(k)].end++)] = Span{ run.y, run.x0, run.x1 };
   }
 }
 
@@ -448,12 +468,18 @@ void BlobDetector::appendSpans(std::vector<Region>& regions)
     r.end = r.begin;
   }
   spans_.resize(static_cast<size_t>(next));
+  if (regions.size() == 1)  // one part (most regions at the lower levels): all runs, in order
+  {
+    Span* out = spans_.data() + regions[0].begin;
+    for (const Run& run : runs_)
+      *out++ = Span{ run.y, run.x0, run.x1 };
+    regions[0].end = next;
+    return;
+  }
   for (size_t i = 0; i < runs_.size(); ++i)
   {
-    const int32_t r = part_of_run_[i];
-    if (r < 0)
-      continue;
     const Run& run = runs_[i];
+    const int32_t r = part_of_label_[static_cast<size_t>(run.parent)];
     spans_[static_cast<size_t>(regions[static_cast<size_t>(r)].end++)] = Span{ run.y, run.x0, run.x1 };
   }
 }
@@ -531,12 +557,6 @@ bool BlobDetector::cutByPitch(const cv::Mat& image, const Blob& part, int thresh
     const double half = 0.5 * (part.height() - std::abs(slope_) * part.width());
     piece.y0 = std::max(part.y0, static_cast<int>(std::floor(line - half)));
     piece.y1 = std::min(part.y1, static_cast<int>(std::ceil(line + half)));
-    for (int y = piece.y0; y < piece.y1; ++y)
-    {
-      const uint8_t* row = image.ptr<uint8_t>(y);
-      for (int x = piece.x0; x < piece.x1; ++x)
-        piece.area += row[x] > threshold;
-    }
     if (!weighAbove(image, piece, threshold))
       continue;
     piece.level = kLastLevel + 1;
@@ -715,17 +735,22 @@ void BlobDetector::formWaveTable(double omega, int cols)
 
 namespace
 {
-// Bit i = (p[i] > threshold) for i < min(n, 64), the rest clear. All 64 bytes are read (one vector
-// pass, no branch per pixel) when they lie before @p limit, the end of the image's buffer.
+// Bit i = (p[i] > threshold) for i < min(n, 64), the rest clear. All 16 (n <= 16) or 64 bytes are
+// read (one vector pass, no branch per pixel) when they lie before @p limit, the end of the image's buffer.
 inline uint64_t maskAbove64(const uint8_t* p, int n, int threshold, const uint8_t* limit)
 {
   const uint64_t valid = n >= 64 ? ~uint64_t{ 0 } : (uint64_t{ 1 } << n) - 1;
 #if defined(__SSE2__)
+  // Unsigned bytes compared as signed after flipping the top bit.
+  const __m128i bias = _mm_set1_epi8(static_cast<char>(0x80));
+  const __m128i t = _mm_set1_epi8(static_cast<char>(threshold ^ 0x80));
+  if (n <= 16 && limit - p >= 16)  // most spans of a merged row: one load
+  {
+    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), bias);
+    return static_cast<uint64_t>(static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpgt_epi8(v, t)))) & valid;
+  }
   if (limit - p >= 64)
   {
-    // Unsigned bytes compared as signed after flipping the top bit.
-    const __m128i bias = _mm_set1_epi8(static_cast<char>(0x80));
-    const __m128i t = _mm_set1_epi8(static_cast<char>(threshold ^ 0x80));
     uint64_t m = 0;
     for (int i = 0; i < 64; i += 16)
     {
@@ -747,7 +772,6 @@ inline BlobDetector::Run* BlobDetector::runsAbove(const cv::Mat& image, const Sp
   // 64 pixels at a time; runs start and end where the mask changes (as in extractRuns()).
   const uint8_t* row = image.ptr<uint8_t>(span.y) + span.x0;
   const int n = span.x1 - span.x0;
-  split_pixels_ += n;
   if (n <= 64)
   {
     // One word (most spans): each run is a block of ones, from its first one to the next zero.
@@ -792,9 +816,7 @@ inline BlobDetector::Run BlobDetector::splitRun(int y, int x0, int x1)
   run.y = y;
   run.x0 = x0;
   run.x1 = x1;
-  run.parent = -1;  // its label: linkLabels()
-  run.peak = 0.f;   // not used in splitting
-  return run;
+  return run;  // its label (parent): linkLabels(); peak is not used in splitting
 }
 
 void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int threshold)
@@ -804,22 +826,27 @@ void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int th
   parts_.clear();
   runs_.clear();
   labels_.clear();
+  label_boxes_.clear();
   int prev_begin = 0, prev_end = 0, prev_y = -2;
+  // At most a run per two pixels of each span (Run() is empty: no writes).
+  size_t most = 0;
+  long pixels = 0;
+  for (int s = region.begin; s < region.end; ++s)
+  {
+    const int n = spans_[static_cast<size_t>(s)].x1 - spans_[static_cast<size_t>(s)].x0;
+    pixels += n;
+    most += static_cast<size_t>(n + 1) / 2;
+  }
+  split_pixels_ += pixels;
+  runs_.resize(most);
+  Run* out = runs_.data();
   for (int s = region.begin; s < region.end;)
   {
     const int y = spans_[static_cast<size_t>(s)].y;
-    // The row's spans [s, e); at most a run per two pixels of each (Run() is empty: no writes).
-    int e = s;
-    size_t most = 0;
-    for (; e < region.end && spans_[static_cast<size_t>(e)].y == y; ++e)
-      most += static_cast<size_t>(spans_[static_cast<size_t>(e)].x1 - spans_[static_cast<size_t>(e)].x0 + 1) / 2;
-    const int cur_begin = static_cast<int>(runs_.size());
-    runs_.resize(runs_.size() + most);
-    Run* out = runs_.data() + cur_begin;
-    for (; s < e; ++s)
+    const int cur_begin = static_cast<int>(out - runs_.data());
+    for (; s < region.end && spans_[static_cast<size_t>(s)].y == y; ++s)
       out = runsAbove(image, spans_[static_cast<size_t>(s)], threshold, out);
-    runs_.resize(static_cast<size_t>(out - runs_.data()));
-    const int cur_end = static_cast<int>(runs_.size());
+    const int cur_end = static_cast<int>(out - runs_.data());
     if (prev_y != y - 1)  // a row of the region without pixels lies between
       prev_begin = prev_end = cur_begin;
     linkLabels(prev_begin, prev_end, cur_begin, cur_end);
@@ -827,6 +854,7 @@ void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int th
     prev_end = cur_end;
     prev_y = y;
   }
+  runs_.resize(static_cast<size_t>(out - runs_.data()));
   groupRunsIntoParts();
 }
 
@@ -845,7 +873,7 @@ void BlobDetector::linkLabels(int prev_begin, int prev_end, int cur_begin, int c
 {
   // The sweep of linkRows(), but a run takes the label of the first run above it that it touches
   // (or a new one), and labels that meet are united: the union-find runs over the few labels (hot
-  // in cache), not over every run.
+  // in cache), not over every run. Each label's box grows with its runs (merged into the parts later).
   int p = prev_begin;
   for (int c = cur_begin; c < cur_end; ++c)
   {
@@ -854,11 +882,13 @@ void BlobDetector::linkLabels(int prev_begin, int prev_end, int cur_begin, int c
       ++p;
     int q = p;
     if (q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1)
-      cr.parent = findLabel(runs_[static_cast<size_t>(q++)].parent);
+      cr.parent = runs_[static_cast<size_t>(q++)].parent;  // any label of the set: its root is found when needed
     else
     {
       cr.parent = static_cast<int32_t>(labels_.size());
       labels_.push_back(cr.parent);
+      Box& b = label_boxes_.emplace_back();
+      startBox(b, cr, 0);
     }
     for (; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
     {
@@ -866,35 +896,44 @@ void BlobDetector::linkLabels(int prev_begin, int prev_end, int cur_begin, int c
       cr.parent = std::min(a, b);
       labels_[static_cast<size_t>(std::max(a, b))] = cr.parent;
     }
+    Box& b = label_boxes_[static_cast<size_t>(cr.parent)];
+    b.x0 = std::min(b.x0, cr.x0);
+    b.x1 = std::max(b.x1, cr.x1);
+    b.y1 = cr.y + 1;
+    b.area += cr.x1 - cr.x0;
+    ++b.last;  // its run count
   }
 }
 
 void BlobDetector::groupRunsIntoParts()
 {
-  // Boxes, areas and run counts, then the runs copied into spans_ grouped by part. Parts are
-  // numbered in the order of their first run.
-  part_of_label_.assign(labels_.size(), -1);
-  part_of_run_.resize(runs_.size());
-  for (size_t i = 0; i < runs_.size(); ++i)
+  // A part per root label, in the order of their first runs: a set's root is its smallest label,
+  // the one its first run was given. Then the runs copied into spans_ grouped by part.
+  part_of_label_.resize(labels_.size());
+  for (size_t l = 0; l < labels_.size(); ++l)
   {
-    int32_t& index = part_of_label_[static_cast<size_t>(findLabel(runs_[i].parent))];
-    const Run& run = runs_[i];
-    if (index < 0)
+    const int root = findLabel(static_cast<int>(l));  // at most l
+    const Box& b = label_boxes_[l];
+    if (root == static_cast<int>(l))
     {
-      index = static_cast<int32_t>(parts_.size());
-      Region r{ Blob(), 0, 0 };
-      r.box.x0 = run.x0;
-      r.box.x1 = run.x1;
-      r.box.y0 = run.y;
+      part_of_label_[l] = static_cast<int32_t>(parts_.size());
+      Region r{ Blob(), 0, b.last };
+      r.box.x0 = b.x0;
+      r.box.x1 = b.x1;
+      r.box.y0 = b.y0;
+      r.box.y1 = b.y1;
+      r.box.area = b.area;
       parts_.push_back(r);
+      continue;
     }
-    part_of_run_[i] = index;
+    const int32_t index = part_of_label_[static_cast<size_t>(root)];
+    part_of_label_[l] = index;
     Region& r = parts_[static_cast<size_t>(index)];
-    r.box.x0 = std::min(r.box.x0, run.x0);
-    r.box.x1 = std::max(r.box.x1, run.x1);
-    r.box.y1 = run.y + 1;
-    r.box.area += run.x1 - run.x0;
-    ++r.end;
+    r.box.x0 = std::min(r.box.x0, b.x0);
+    r.box.x1 = std::max(r.box.x1, b.x1);
+    r.box.y1 = std::max(r.box.y1, b.y1);
+    r.box.area += b.area;
+    r.end += b.last;
   }
   appendSpans(parts_);
 }
@@ -903,7 +942,7 @@ bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) cons
 {
   // Integer sums: exact, so the same as summing in double (every partial sum is far below 2^53).
   int64_t sw = 0, swx = 0, swy = 0;
-  int peak = 0;
+  int peak = 0, area = 0;
   for (int y = b.y0; y < b.y1; ++y)
   {
     const uint8_t* row = image.ptr<uint8_t>(y);
@@ -914,10 +953,12 @@ bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) cons
       row_w += w;
       swx += static_cast<int64_t>(w) * x;
       peak = std::max(peak, w);
+      area += w > 0;
     }
     sw += row_w;
     swy += row_w * y;
   }
+  b.area = area;
   return setWeighted(sw, swx, swy, peak, b);
 }
 

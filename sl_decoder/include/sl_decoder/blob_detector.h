@@ -195,7 +195,7 @@ private:
   void cellsOfBand(const cv::Mat& image, const Blob& band, int t, std::vector<Blob>& blobs);
   /// Sets cos_, sin_ to the cosine and sine of @p omega x for the columns x of an image @p cols wide.
   void formWaveTable(double omega, int cols);
-  /// Centroid (weights above @p threshold) and contrast of the pixels of @p b's box; false if none.
+  /// Centroid (weights above @p threshold), contrast and area (pixels above) of @p b's box; false if none.
   bool weighAbove(const cv::Mat& image, Blob& b, int threshold) const;
   /// The same over the pixels of @p part only (neighbours' light in its box does not pull it).
   bool weighAbove(const cv::Mat& image, Region& part, int threshold) const;
@@ -215,8 +215,8 @@ private:
   void linkLabels(int prev_begin, int prev_end, int cur_begin, int cur_end);
   /// Forms parts_ from the labelled runs_ and appends their pixels to spans_.
   void groupRunsIntoParts();
-  /// Appends the runs of each region (part_of_run_: its index in @p regions, or -1; each region's
-  /// end: its run count) to spans_ and sets the regions' [begin, end).
+  /// Appends the runs of each region (its index in @p regions: part_of_label_ of the run's label;
+  /// each region's end: its run count) to spans_ and sets the regions' [begin, end).
   void appendSpans(std::vector<Region>& regions);
 
   DecoderConfig config_;
@@ -232,7 +232,8 @@ private:
   std::vector<uint8_t> row_constants_set_;                    // per window row count: formed this image
   std::vector<Run> runs_;
   std::vector<int32_t> labels_;          // union-find over the labels of labelAbove()
-  std::vector<int32_t> part_of_label_;   // per root label: its part
+  std::vector<int32_t> part_of_label_;   // per label: its part
+  std::vector<Box> label_boxes_;         // per label: box, area, run count (last) of its runs
   std::vector<Run> component_runs_;      // the image's runs (runs_ is then the splitting's scratch)
   cv::Mat image_;                        // the image of the last detectBoxes(), for centroids()
   std::vector<int32_t> box_sums_;        // integral image around one blob (integrateAround())
@@ -251,7 +252,7 @@ private:
   std::vector<Region> oversized_, pending_, parts_;
   std::vector<Span> spans_;                   // pixels of the regions above
   std::vector<int32_t> oversized_component_;  // per region of oversized_: its component
-  std::vector<int32_t> part_of_run_;          // per run: its region (oversized_ or parts_), or -1
+  std::vector<int32_t> region_of_component_;  // per component: its region in oversized_, or -1
 };
 
 }  // namespace sl_decoder

@@ -97,6 +97,8 @@ void FilterParams::validate() const
   footprint.validate();
   detail::requireInRange("safety_margin", clearance, 0.0, 2.0);
   detail::requireInRange("obstacle_margin", obstacle_clearance, 0.0, 2.0);
+  detail::requireInRange("edge_margin", edge_clearance, 0.0, 2.0);
+  detail::requireInRange("edge_speed", edge_speed, 0.0, 0.1);
   detail::requireInRange("deceleration", deceleration, 0.0, 10.0);
   detail::requireInRange("check_distance", horizon, 0.1, 10.0);
   detail::requireInRange("input_timeout", input_timeout, 0.01, 60.0);
@@ -278,6 +280,7 @@ SafetyFilter::Travels SafetyFilter::travels(const LocalMap& map, const FilterInp
     const double trail = sweepArc(map, fp.radius, in.pose, direction, curvature, length, in.now).off_trail;
     t.known = std::min({ swept.free, trail, cloud, length }) - fp.lateral_margin;
     t.open = t.known;
+    t.edge = t.known;
     return t;
   }
   // Contact is a matter of the disc itself; widened by half a cell's diagonal, a cell counts from
@@ -292,8 +295,11 @@ SafetyFilter::Travels SafetyFilter::travels(const LocalMap& map, const FilterInp
   const auto unknownAt = [&](double cells) { return cells >= shadow ? kInf : cells; };
   const double to_obstacle = std::min(obstacle, length) - params_.obstacle_clearance;
   const double checked = length - std::max(params_.clearance, params_.obstacle_clearance);
-  t.known = std::min({ unknownAt(swept.unknown) - params_.clearance, to_obstacle, checked });
+  const double to_unknown = unknownAt(swept.unknown) - params_.clearance;
+  t.known = std::min({ to_unknown, to_obstacle, checked });
   t.open = std::min({ unknownAt(swept.evidence) - params_.clearance, to_obstacle, checked });
+  t.edge = std::min({ to_unknown, std::min(obstacle, length) - params_.edge_clearance,
+                      length - std::max(params_.clearance, params_.edge_clearance) });
   return t;
 }
 
@@ -308,7 +314,7 @@ double SafetyFilter::openTravel(const LocalMap& map, const FilterInput& in, doub
 }
 
 double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out,
-                                bool& creeping) const
+                                bool& creeping, bool& edging) const
 {
   const double sign = v > 0.0 ? 1.0 : -1.0;
   const double a = params_.deceleration;
@@ -319,8 +325,11 @@ double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, doub
   const bool may_creep = v > 0.0 && params_.creep_speed > 0.0 &&
                          centreLineSeen(map, in.pose.x, in.pose.y, in.pose.yaw, params_.footprint.radius,
                                         params_.creep_view, params_.creep_view + 2.0 * map.params().resolution, in.now);
+  // The edge rule: forward at no more than edge_speed, the map's obstacles may come to edge_clearance.
+  const bool may_edge = v > 0.0 && params_.edge_speed > 0.0 && params_.edge_clearance < params_.obstacle_clearance;
   double speed = std::abs(v);
   creeping = false;
+  edging = false;
   for (int iteration = 0; iteration < 8 && speed >= kStill; ++iteration)
   {
     // Only the stopping distance and the clearance need checking (plus a little, so that free
@@ -331,9 +340,11 @@ double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, doub
     const Travels t = travels(map, in, sign * speed, w, length);
     const double known_limit = speedFor(t.known, a);
     const double creep_limit = may_creep ? std::min(params_.creep_speed, speedFor(t.open, a)) : 0.0;
-    creeping = creep_limit > known_limit;
-    out.travel = creeping ? t.open : t.known;
-    out.speed_limit = std::max(known_limit, creep_limit);
+    const double edge_limit = may_edge ? std::min(params_.edge_speed, speedFor(t.edge, a)) : 0.0;
+    creeping = creep_limit > std::max(known_limit, edge_limit);
+    edging = !creeping && edge_limit > known_limit;
+    out.travel = creeping ? t.open : (edging ? t.edge : t.known);
+    out.speed_limit = std::max({ known_limit, creep_limit, edge_limit });
     out.curvature = w / speed;
     if (speed <= out.speed_limit)
     {
@@ -344,6 +355,7 @@ double SafetyFilter::limitSpeed(const LocalMap& map, const FilterInput& in, doub
   }
   out.curvature = 0.0;
   creeping = false;
+  edging = false;
   return 0.0;
 }
 
@@ -391,7 +403,9 @@ FilterOutput SafetyFilter::filter(const LocalMap& map, const FilterInput& in) co
     return out;
   }
   bool creeping = false;
-  out.command.linear = limitSpeed(map, in, v, w, out, creeping);
+  bool edging = false;
+  out.command.linear = limitSpeed(map, in, v, w, out, creeping, edging);
+  const char* edge_note = edging ? " (near a known obstacle, at most edge_speed)" : "";
   out.scale = std::abs(out.command.linear) / std::abs(v);
   if (creeping)
   {
@@ -404,13 +418,14 @@ FilterOutput SafetyFilter::filter(const LocalMap& map, const FilterInput& in) co
   else if (out.command.linear == v)
   {
     out.reason = FilterReason::PASSED;
-    std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance: %.3f m/s passed", out.travel, v);
+    std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance%s: %.3f m/s passed", out.travel,
+                  edge_note, v);
   }
   else if (out.command.linear != 0.0)
   {
     out.reason = FilterReason::LIMITED;
-    std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance: %.3f m/s limited to %.3f m/s",
-                  out.travel, v, out.command.linear);
+    std::snprintf(text, sizeof(text), "%.3f m free on the arc beyond the clearance%s: %.3f m/s limited to %.3f m/s",
+                  out.travel, edge_note, v, out.command.linear);
   }
   else
   {

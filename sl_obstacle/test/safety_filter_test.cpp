@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <sl_testing/errors.h>
@@ -140,6 +141,61 @@ TEST(SafetyFilter, KnownObstaclesKeepTheObstacleClearanceUnknownSpaceTheClearanc
     EXPECT_GE(at_edge.travel, std::min(d_edge, 0.0) - 2.5 * kRes) << "at x " << x;
     EXPECT_LT(at_edge.command.linear, at_wall.command.linear + 1e-9) << "at x " << x;
   }
+}
+
+TEST(SafetyFilter, EdgeRuleAsAFormula)
+{
+  // Cleaning along a wall the map knows: at no more than edge_speed the front edge may come to
+  // edge_clearance of it; faster, obstacle_clearance holds. Unknown space keeps the clearance.
+  FilterParams p;
+  p.clearance = 0.15;
+  p.obstacle_clearance = 0.10;
+  p.edge_clearance = 0.05;
+  p.edge_speed = 0.1;
+  p.creep_speed = 0.0;
+  const SafetyFilter filter(p);
+  FilterParams off = p;
+  off.edge_speed = 0.0;
+  const SafetyFilter without(off);
+  LocalMap map{ MapParams() };
+  wallMap(map, 1.4);
+  LocalMap open{ MapParams() };
+  insertRect(open, -0.4F, 1.4F, -0.6F, 0.6F, RayKind::Free);  // free up to 1.4 m, unknown beyond
+  const double a = p.deceleration;
+  for (double x = 0.8; x <= 1.25; x += 0.01)
+  {
+    for (const double v : { 0.3, 0.08 })
+    {
+      const std::vector<Point2> wall = wallPoints(1.4, x);
+      FilterInput in = inputAt(x, 0.0, 0.0, v, 0.0);
+      in.obstacles = &wall;
+      const double d_known = 1.4 - x - kBody - p.obstacle_clearance;
+      const double d_edge = 1.4 - x - kBody - p.edge_clearance;
+      const double known = d_known > 0.0 ? std::sqrt(2.0 * a * d_known) : 0.0;
+      const double edge = d_edge > 0.0 ? std::min(p.edge_speed, std::sqrt(2.0 * a * d_edge)) : 0.0;
+      const double expected = std::min(v, std::max(known, edge));
+      const FilterOutput out = filter.filter(map, in);
+      EXPECT_NEAR(out.command.linear, expected, 1e-6) << "at x " << x << ", " << v << " m/s";
+      EXPECT_LE(out.command.linear, std::max(known, p.edge_speed) + 1e-9);  // faster only as fast as the formula
+      EXPECT_NEAR(without.filter(map, in).command.linear, std::min(v, known), 1e-6) << "at x " << x;
+      // Unknown space is no wall: no nearer approach there.
+      const FilterOutput unknown = filter.filter(open, inputAt(x, 0.0, 0.0, v, 0.0));
+      EXPECT_NEAR(unknown.command.linear, without.filter(open, inputAt(x, 0.0, 0.0, v, 0.0)).command.linear, 1e-9)
+          << "at x " << x;
+    }
+  }
+  // At 0.08 m/s the robot comes to edge_clearance, not nearer.
+  const double x_stop = 1.4 - kBody - p.edge_clearance;
+  const std::vector<Point2> wall = wallPoints(1.4, x_stop);
+  FilterInput in = inputAt(x_stop, 0.0, 0.0, 0.08, 0.0);
+  in.obstacles = &wall;
+  EXPECT_EQ(filter.filter(map, in).reason, FilterReason::STOPPED_OBSTACLE);
+  in = inputAt(x_stop - 0.02, 0.0, 0.0, 0.08, 0.0);
+  const std::vector<Point2> wall2 = wallPoints(1.4, x_stop - 0.02);
+  in.obstacles = &wall2;
+  const FilterOutput near = filter.filter(map, in);
+  EXPECT_GT(near.command.linear, 0.0);
+  EXPECT_NE(near.text.find("edge_speed"), std::string::npos) << near.text;
 }
 
 TEST(SafetyFilter, WithoutTheCloudTheMapStopsEarlyNeverLate)
@@ -496,6 +552,12 @@ TEST(SafetyFilter, BadParametersAreNamed)
   p = FilterParams();
   p.obstacle_clearance = -0.1;
   EXPECT_EQ(validationError(p).rfind("obstacle_margin", 0), 0U) << validationError(p);
+  p = FilterParams();
+  p.edge_speed = 0.2;  // the approach to edge_margin is 0.1 m/s at most
+  EXPECT_EQ(validationError(p).rfind("edge_speed", 0), 0U) << validationError(p);
+  p = FilterParams();
+  p.edge_clearance = std::nan("");
+  EXPECT_EQ(validationError(p).rfind("edge_margin", 0), 0U) << validationError(p);
   p = FilterParams();
   p.footprint.radius = 0.0;
   EXPECT_EQ(validationError(p).rfind("radius", 0), 0U) << validationError(p);

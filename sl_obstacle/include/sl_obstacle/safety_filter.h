@@ -45,6 +45,11 @@ struct FilterParams
   /// m kept between the disc and occupied cells or cloud points (obstacle_margin): what the map
   /// knows is approached by its cells and the odometry, so it may be nearer than unknown space
   double obstacle_clearance = 0.15;
+  /// m kept to occupied cells or cloud points while the forward speed is at most edge_speed
+  /// (edge_margin): a slow approach to what the map knows, for cleaning along walls (used only
+  /// when below obstacle_clearance)
+  double edge_clearance = 0.05;
+  double edge_speed = 0.0;  ///< m/s, in [0, 0.1]: the fastest approach to edge_clearance; 0: none (edge_speed)
   double deceleration = 0.25;  ///< a in v <= sqrt(2 a d) (m/s^2); 0: stop only at d = 0
   double horizon = 1.5;        ///< m, the longest arc checked (check_distance)
   double input_timeout = 0.5;  ///< s without a command before the robot stops
@@ -138,13 +143,14 @@ struct FilterOutput
  * local map (and against the newest cloud's obstacle points, whose distances are exact) and the
  * speed is limited (doc/world_model.md, section 4):
  *
- *   forward: |v| <= max(sqrt(2 a d_known), C min(creep_speed, sqrt(2 a d_open)))
+ *   forward: |v| <= max(sqrt(2 a d_known), C min(creep_speed, sqrt(2 a d_open)), min(edge_speed, sqrt(2 a d_edge)))
  *   reverse: |v| <= sqrt(2 a d_trail)
  *
  * d_known: the travel to the first unknown cell less the clearance, or to the first occupied cell or
  * contact with a cloud point less the obstacle clearance, whichever is shorter (unknown cells within a
  * cell of an obstacle ahead, its shadow, are reached only through it and count as the obstacle); d_open: the same, except that unknown cells without evidence (never seen to hold
- * anything: the ring the camera cannot see) pass; C = 1 when the map knows the centre line straight
+ * anything: the ring the camera cannot see) pass; d_edge: d_known with edge_clearance in place of the
+ * obstacle clearance (a slow approach nearer to what the map knows); C = 1 when the map knows the centre line straight
  * ahead from creep_view to two cells beyond it (centreLineSeen(): free or occupied, the camera
  * sees where an obstacle would stop the robot), else 0; d_trail: travel until the disc (radius, no margin) covers a
  * cell off its trail or the swept disc a cell that is not free, less the lateral margin.
@@ -180,12 +186,13 @@ private:
   {
     double known = 0.0;
     double open = 0.0;
+    double edge = 0.0;  // known, with edge_clearance to obstacles
   };
   Travels travels(const LocalMap& map, const FilterInput& in, double v, double w, double length) const;
   /// The largest speed <= |v| (same sign) that stops within the travel of its own arc with w; sets
-  /// @p creeping when only the creep rule allows it.
+  /// @p creeping when only the creep rule allows it, @p edging when only the edge rule does.
   double limitSpeed(const LocalMap& map, const FilterInput& in, double v, double w, FilterOutput& out,
-                    bool& creeping) const;
+                    bool& creeping, bool& edging) const;
 
   FilterParams params_;
 };

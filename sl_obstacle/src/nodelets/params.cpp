@@ -116,6 +116,8 @@ Settings toSettings(const ObstacleConfig& c)
   f.input_timeout = c.input_timeout;
   f.stale_timeout = c.stale_timeout;
   f.creep_speed = c.creep_speed;
+  f.edge_clearance = c.edge_margin;
+  f.edge_speed = c.edge_speed;
   s.teleop_hold = c.teleop_hold;
   return s;
 }

@@ -376,14 +376,15 @@ void Navigator::checkStuck(const Pose& pose, double now)
     }
     // The goal itself is never taken as blocked: where the refused way ends at the goal, the robot
     // backs off again and looks (progress_timeout ends a goal it never gets to).
-    const bool way_is_goal = blocksGoal(refusedPoint(pose));
-    if ((stuck_count_ == 2 || (stuck_count_ > 2 && way_is_goal)) && startBackoff(pose, now))
+    const Point refused = refusedPoint(pose);
+    const bool way_is_goal = blocksGoal(refused);
+    if ((stuck_count_ == 2 || (stuck_count_ > 2 && way_is_goal)) && startBackoff(pose, refused, now))
     {
       return;
     }
     if (stuck_count_ >= 2 && !way_is_goal && params_.refused_memory > 0.0)
     {
-      blockAhead(pose, now);
+      blockAhead(pose, refused, now);
       return;
     }
     look_step_ = 0;
@@ -463,7 +464,7 @@ void Navigator::recordTrail(const Pose& pose)
   trail_.push_back(Point{ pose.x, pose.y });
 }
 
-bool Navigator::startBackoff(const Pose& pose, double now)
+bool Navigator::startBackoff(const Pose& pose, const Point& refused, double now)
 {
   // The trail point kBackoffDistance back along the way the robot came.
   if (trail_.empty())
@@ -482,7 +483,7 @@ bool Navigator::startBackoff(const Pose& pose, double now)
     return false;
   }
   backoff_target_ = trail_[i - 1];
-  backoff_look_ = refusedPoint(pose);
+  backoff_look_ = refused;
   backoff_phase_ = 1;
   backoff_started_ = now;
   ++backoffs_;
@@ -561,9 +562,8 @@ bool Navigator::backoff(const Pose& pose, double now)
   return true;
 }
 
-void Navigator::blockAhead(const Pose& pose, double now)
+void Navigator::blockAhead(const Pose& pose, const Point& c, double now)
 {
-  const Point c = refusedPoint(pose);
   refused_.push_back(Refused{ Disc{ c.x, c.y, kBlockedRadius }, now + params_.refused_memory });
   stuck_count_ = 0;
   stuck_at_time_ = -std::numeric_limits<double>::infinity();

@@ -79,14 +79,32 @@ LoopRun drive(Navigator& nav, const World& world, Pose pose, double limit, const
   return r;
 }
 
-/// A 6 x 5 m room split by a wall with a 0.8 m door, a table leg and a box on the far side.
-World furnishedRooms()
+/// An empty 6 x 5 m room around the origin (its walls 0.1 m thick).
+World walledRoom()
 {
   World w;
-  w.box(-3.0, -2.6, 3.0, -2.5);  // outer walls
+  w.box(-3.0, -2.6, 3.0, -2.5);
   w.box(-3.0, 2.5, 3.0, 2.6);
   w.box(-3.1, -2.6, -3.0, 2.6);
   w.box(3.0, -2.6, 3.1, 2.6);
+  return w;
+}
+
+/// The safety filter's refusal, modelled: no forward motion whose next 0.25 s brings the centre
+/// nearer to (x, y) and within @p radius of it.
+double refuseApproach(const Pose& pose, double v, double w, double x, double y, double radius)
+{
+  Pose ahead = pose;
+  World::move(ahead, v, w, 0.25);
+  const double d = std::hypot(ahead.x - x, ahead.y - y);
+  const bool nearer = d < std::hypot(pose.x - x, pose.y - y);
+  return v > 0.0 && nearer && d < radius ? 0.0 : v;
+}
+
+/// walledRoom() split by a wall with a 0.8 m door, a table leg and a box on the far side.
+World furnishedRooms()
+{
+  World w = walledRoom();
   w.box(0.0, -2.5, 0.1, 0.3);  // the dividing wall, door at y in (0.3, 1.1)
   w.box(0.0, 1.1, 0.1, 2.5);
   w.post(1.2, 0.9, 0.02);      // a table leg
@@ -149,11 +167,7 @@ TEST(Navigator, TakesAnotherWayWhereTheSafetyFilterKeepsRefusing)
   // not see free. The navigator must not look around there forever: stuck a second time in one
   // place it backs off along its trail and looks again; stuck a third time there, it takes that way
   // as blocked and goes through the other door (y -2.0..-1.2).
-  World world;
-  world.box(-3.0, -2.6, 3.0, -2.5);
-  world.box(-3.0, 2.5, 3.0, 2.6);
-  world.box(-3.1, -2.6, -3.0, 2.6);
-  world.box(3.0, -2.6, 3.1, 2.6);
+  World world = walledRoom();
   world.box(0.0, -2.5, 0.1, -2.0);
   world.box(0.0, -1.2, 0.1, 0.3);
   world.box(0.0, 1.1, 0.1, 2.5);
@@ -172,11 +186,7 @@ TEST(Navigator, TakesAnotherWayWhereTheSafetyFilterKeepsRefusing)
     const Filter refuse_door = [&](const Pose& pose, double v, double w)
     {
       nearest_door = std::min(nearest_door, std::hypot(pose.x - door_x, pose.y - door_y));
-      Pose ahead = pose;
-      World::move(ahead, v, w, 0.25);
-      const double d = std::hypot(ahead.x - door_x, ahead.y - door_y);
-      const bool nearer = d < std::hypot(pose.x - door_x, pose.y - door_y);
-      return v > 0.0 && nearer && d < 0.45 ? 0.0 : v;  // the filter's refusal
+      return refuseApproach(pose, v, w, door_x, door_y, 0.45);
     };
     const LoopRun r = drive(nav, world, start, 240.0, refuse_door);
     nearest_door = std::min(nearest_door, std::hypot(r.pose.x - door_x, r.pose.y - door_y));
@@ -208,11 +218,7 @@ TEST(Navigator, NeverTakesTheGoalItselfAsBlocked)
   // and looks again, but never blocks the way there: a blocked disc at the goal would make the goal
   // unplannable and end it ("0.00 m from an obstacle") though nothing stands there. Where the filter
   // never relents, progress_timeout ends the goal.
-  World world;
-  world.box(-3.0, -2.6, 3.0, -2.5);
-  world.box(-3.0, 2.5, 3.0, 2.6);
-  world.box(-3.1, -2.6, -3.0, 2.6);
-  world.box(3.0, -2.6, 3.1, 2.6);
+  const World world = walledRoom();
   const NavGoal goal{ 1.0, 0.3, 0.0, false };
   for (const double relent : { 60.0, std::numeric_limits<double>::infinity() })  // s until the filter lets it through
   {
@@ -224,11 +230,7 @@ TEST(Navigator, NeverTakesTheGoalItselfAsBlocked)
     const Filter refuse_goal = [&](const Pose& pose, double v, double w)
     {
       elapsed += 0.05;
-      Pose ahead = pose;
-      World::move(ahead, v, w, 0.25);
-      const double d = std::hypot(ahead.x - goal.x, ahead.y - goal.y);
-      const bool nearer = d < std::hypot(pose.x - goal.x, pose.y - goal.y);
-      return elapsed < relent && v > 0.0 && nearer && d < 0.5 ? 0.0 : v;
+      return elapsed < relent ? refuseApproach(pose, v, w, goal.x, goal.y, 0.5) : v;
     };
     const LoopRun r = drive(nav, world, start, 240.0, refuse_goal);
     std::printf("refused before the goal for %.0f s: %s after %.1f s, %zu back-off(s), %zu place(s) blocked: %s\n",

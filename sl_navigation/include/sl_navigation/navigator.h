@@ -173,15 +173,15 @@ private:
   void checkStuck(const Pose& pose, double now);
   /// One step of the look-around; false once it is done.
   bool lookAround(const Pose& pose, double now);
-  /// Stuck a second time in one place: starts backing off along the trail; false when the trail
-  /// is too short for it.
-  bool startBackoff(const Pose& pose, double now);
+  /// Stuck a second time in one place: starts backing off along the trail, to look at @p refused
+  /// (refusedPoint()) afterwards; false when the trail is too short for it.
+  bool startBackoff(const Pose& pose, const Point& refused, double now);
   /// One step of the back-off (turn so the trail lies behind, reverse along it, face the refused
   /// point, wait look_time); false once it is over.
   bool backoff(const Pose& pose, double now);
   /// Stuck a third time in one place (the way not ending at the goal): blocks the way ahead for
-  /// the planner and replans.
-  void blockAhead(const Pose& pose, double now);
+  /// the planner and replans: a disc around @p c (refusedPoint()).
+  void blockAhead(const Pose& pose, const Point& c, double now);
   /// The point of the path just beyond the robot's body (where the filter refused to go).
   Point refusedPoint(const Pose& pose) const;
   /// True when a blocked disc at @p c would make the goal itself unplannable.

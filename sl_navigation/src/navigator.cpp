@@ -181,7 +181,10 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
 {
   pruneBlocked(now);
   planner_.update(grid_, now);
-  Plan p = planner_.plan(grid_, pose.x, pose.y, goal_.x, goal_.y);
+  // A goal the map puts too near an obstacle is moved at most 3/4 of goal_tolerance, so that the
+  // path's end is reached with at least a quarter of it to spare.
+  const double tolerance = params_.follower.goal_tolerance;
+  Plan p = planner_.plan(grid_, pose.x, pose.y, goal_.x, goal_.y, 0.75 * tolerance);
   plan_time_ = now;
   plan_version_ = grid_.version();
   if (p.status == PlanStatus::OK)
@@ -198,7 +201,7 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
       detour = detour || !std::isfinite(kept);
     }
     plan_ = std::move(p);
-    follower_.setPath(plan_.points, goal_.yaw, goal_.use_yaw);
+    follower_.setPath(plan_.points, goal_.yaw, goal_.use_yaw, tolerance - plan_.goal_shift);
     if (detour && follower_.remaining() <= params_.max_detour * goal_distance_)
     {
       // An obstacle found on the way is no regress: progress counts along the detour from here.
@@ -320,8 +323,8 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
   char text[320];
   if (c.mode == FollowMode::ARRIVED)
   {
-    std::snprintf(text, sizeof(text), "goal reached: %.3f m from (%.2f, %.2f) after %.1f s and %.2f m", c.goal_distance,
-                  goal_.x, goal_.y, out_.elapsed, out_.travelled);
+    std::snprintf(text, sizeof(text), "goal reached: %.3f m from (%.2f, %.2f) after %.1f s and %.2f m",
+                  std::hypot(goal_.x - pose.x, goal_.y - pose.y), goal_.x, goal_.y, out_.elapsed, out_.travelled);
     return endNow(NavState::SUCCEEDED, text);
   }
   if (c.goal_distance < best_distance_ - params_.progress_distance ||

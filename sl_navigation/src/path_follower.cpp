@@ -97,7 +97,7 @@ std::int8_t ExecWindow::at(double x, double y) const
   return data_[static_cast<std::size_t>(fy) * width_ + static_cast<std::size_t>(fx)];
 }
 
-PathFollower::PathFollower(const FollowerParams& params) : params_(params)
+PathFollower::PathFollower(const FollowerParams& params) : params_(params), tolerance_(params.goal_tolerance)
 {
   params_.validate();
 }
@@ -116,8 +116,9 @@ void PathFollower::reset()
   last_time_ = std::numeric_limits<double>::quiet_NaN();
 }
 
-void PathFollower::setPath(const std::vector<Point>& path, double goal_yaw, bool use_yaw)
+void PathFollower::setPath(const std::vector<Point>& path, double goal_yaw, bool use_yaw, double tolerance)
 {
+  tolerance_ = tolerance > 0.0 && tolerance < params_.goal_tolerance ? tolerance : params_.goal_tolerance;
   path_ = path;
   if (path_.size() == 1)
   {
@@ -348,7 +349,7 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double spe
   v = std::min(v, speed_cap + params_.acceleration * dt);
   v = std::max(v, params_.min_speed);  // not blocked (step() checked): the filter decides
   v = std::min(
-      v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * params_.goal_tolerance)) + params_.min_speed);
+      v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * tolerance_)) + params_.min_speed);
   if (std::abs(curvature) > 1e-6)
   {
     v = std::min(v, params_.max_angular / std::abs(curvature));
@@ -375,7 +376,7 @@ const FollowCommand& PathFollower::step(const Pose& pose, const ExecWindow& wind
   out_.remaining = remaining();
   out_.goal_distance = std::hypot(path_.back().x - pose.x, path_.back().y - pose.y);
   char text[200];
-  if (out_.goal_distance <= params_.goal_tolerance)
+  if (out_.goal_distance <= tolerance_)
   {
     const double yaw_error = wrapAngle(goal_yaw_ - pose.yaw);
     if (use_yaw_ && params_.yaw_tolerance > 0.0 && std::abs(yaw_error) > params_.yaw_tolerance)

@@ -271,7 +271,32 @@ bool Planner::insideObject(int gix, int giy) const
   return true;
 }
 
-Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double gy)
+bool Planner::nearestClear(const NavGrid& grid, double gx, double gy, double radius, int& ix, int& iy) const
+{
+  const int r = static_cast<int>(std::ceil(radius / resolution_));
+  const int cx = grid.indexX(gx);
+  const int cy = grid.indexY(gy);
+  double best = std::numeric_limits<double>::infinity();
+  double best_clearance = 0.0;
+  for (int y = std::max(1, cy - r); y <= std::min(n_ - 2, cy + r); ++y)
+  {
+    for (int x = std::max(1, cx - r); x <= std::min(n_ - 2, cx + r); ++x)
+    {
+      const double d = std::hypot(grid.centerX(x) - gx, grid.centerY(y) - gy);
+      if (d > radius || lethal(x, y) || d > best + 1e-9 || (d > best - 1e-9 && clearance(x, y) <= best_clearance))
+      {
+        continue;
+      }
+      best = d;
+      best_clearance = clearance(x, y);
+      ix = x;
+      iy = y;
+    }
+  }
+  return std::isfinite(best);
+}
+
+Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double gy, double tolerance)
 {
   Plan out;
   char text[200];
@@ -292,8 +317,16 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
     out.text = text;
     return out;
   }
-  const int gix = grid.indexX(gx);
-  const int giy = grid.indexY(gy);
+  int gix = grid.indexX(gx);
+  int giy = grid.indexY(gy);
+  const double requested_x = gx;
+  const double requested_y = gy;
+  if (lethal(gix, giy) && tolerance > 0.0 && nearestClear(grid, gx, gy, tolerance, gix, giy))
+  {
+    gx = grid.centerX(gix);
+    gy = grid.centerY(giy);
+    out.goal_shift = std::hypot(gx - requested_x, gy - requested_y);
+  }
   if (lethal(gix, giy))
   {
     out.status = PlanStatus::GOAL_BLOCKED;
@@ -437,6 +470,12 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
   std::snprintf(text, sizeof(text), "path of %.2f m to (%.2f, %.2f), %d unknown cells, %d cells searched",
                 out.length, gx, gy, out.unknown_cells, expansions);
   out.text = text;
+  if (out.goal_shift > 0.0)
+  {
+    std::snprintf(text, sizeof(text), " (the goal (%.2f, %.2f) moved %.2f m clear of an obstacle)", requested_x,
+                  requested_y, out.goal_shift);
+    out.text += text;
+  }
   return out;
 }
 

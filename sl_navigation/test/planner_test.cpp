@@ -130,6 +130,30 @@ TEST(Planner, AGoalInsideAnObstacleOrTooNearIsBlocked)
   EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 0.7, 0.0).status, PlanStatus::OK);  // 0.3 m from it
 }
 
+TEST(Planner, AGoalTooNearAnObstacleMovesWithinTheToleranceOnly)
+{
+  Map m;
+  m.wall(1.0, -1.0, 2.0, 1.0);
+  PlannerParams pp;
+  Planner planner(pp, m.grid().width());
+  planner.update(m.grid(), 0.0);
+  const Plan near = planner.plan(m.grid(), -2.0, 0.0, 0.83, 0.0, 0.075);  // 0.17 m from the box
+  ASSERT_EQ(near.status, PlanStatus::OK) << near.text;
+  EXPECT_GT(near.goal_shift, 0.0);
+  EXPECT_LE(near.goal_shift, 0.075);
+  EXPECT_NEAR(std::hypot(near.points.back().x - 0.83, near.points.back().y), near.goal_shift, 1e-9);
+  EXPECT_FALSE(planner.lethal(m.grid().indexX(near.points.back().x), m.grid().indexY(near.points.back().y)));
+  EXPECT_NE(near.text.find("moved"), std::string::npos) << near.text;
+  const Plan exact = planner.plan(m.grid(), -2.0, 0.0, 0.5, 0.0, 0.075);  // clear: not moved
+  ASSERT_EQ(exact.status, PlanStatus::OK) << exact.text;
+  EXPECT_EQ(exact.goal_shift, 0.0);
+  EXPECT_DOUBLE_EQ(exact.points.back().x, 0.5);
+  // Farther in than the tolerance reaches: refused as before.
+  EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 0.9, 0.0, 0.075).status, PlanStatus::GOAL_BLOCKED);
+  EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 1.5, 0.0, 0.075).status, PlanStatus::GOAL_BLOCKED);
+  EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 0.83, 0.0).status, PlanStatus::GOAL_BLOCKED);  // no tolerance
+}
+
 TEST(Planner, AnEnclosedGoalHasNoPath)
 {
   Map m;

@@ -120,8 +120,10 @@ public:
   explicit PathFollower(const FollowerParams& params = FollowerParams());
 
   /// Starts following @p path (start to goal); keeps the speed. @p goal_yaw is used when
-  /// @p use_yaw and yaw_tolerance > 0.
-  void setPath(const std::vector<Point>& path, double goal_yaw, bool use_yaw);
+  /// @p use_yaw and yaw_tolerance > 0. @p tolerance (m), when in (0, goal_tolerance), replaces
+  /// goal_tolerance for this path: the end of a path to a goal the planner moved (Plan::goal_shift)
+  /// must be reached closer, so that the requested goal is within goal_tolerance.
+  void setPath(const std::vector<Point>& path, double goal_yaw, bool use_yaw, double tolerance = 0.0);
   /// Forgets the path and the looked-at cells; the next command starts from standstill.
   void reset();
   /// One control step at @p now (s) from @p pose on @p window. @p speed_cap (m/s) is what the safety
@@ -175,6 +177,7 @@ private:
   double offset_ = 0.0;        // the projection's travel within that segment
   double goal_yaw_ = 0.0;
   bool use_yaw_ = false;
+  double tolerance_ = 0.10;  // arrival distance to the path's end for this path (m)
   double last_time_ = std::numeric_limits<double>::quiet_NaN();
   double speed_ = 0.0;  // last commanded linear speed
   bool facing_ = false;

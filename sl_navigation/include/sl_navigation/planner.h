@@ -68,6 +68,7 @@ struct Plan
   double cost = 0.0;          ///< m weighted by the cells' cost factors (what the search minimised)
   int unknown_cells = 0;      ///< cells of the path that are unknown
   int expansions = 0;         ///< cells the search expanded
+  double goal_shift = 0.0;    ///< m from the requested goal to the path's end (see Planner::plan())
   std::string text;           ///< a sentence with the numbers
 };
 
@@ -94,8 +95,12 @@ public:
   /// Discs taken as occupied from the next update() on (places where the robot was refused that
   /// the map shows passable); replaces the previous set.
   void setBlocked(const std::vector<Disc>& discs) { blocked_ = discs; }
-  /// Plans from (sx, sy) to (gx, gy) on the last update()'s state of @p grid.
-  Plan plan(const NavGrid& grid, double sx, double sy, double gx, double gy);
+  /// Plans from (sx, sy) to (gx, gy) on the last update()'s state of @p grid. A goal nearer than
+  /// lethalDistance() to an obstacle is moved to the nearest cell centre within @p tolerance (m) that
+  /// is not (as navfn's tolerance): a goal beside furniture, or a lone cell seen occupied next to it,
+  /// is approached as far as it is safe instead of refused; Plan::goal_shift says how far it moved.
+  /// With no such cell, or @p tolerance 0, the goal is refused (GOAL_BLOCKED).
+  Plan plan(const NavGrid& grid, double sx, double sy, double gx, double gy, double tolerance = 0.0);
 
   /// Cost (as Plan::cost) of the polyline @p points from index @p first on, on the last update();
   /// +inf where it crosses an occupied or lethal cell (lethal ones within escape_radius of
@@ -116,6 +121,9 @@ private:
   float stepFactor(std::size_t i) const { return factor_[i]; }
   /// True when unknown cell (gix, giy) meets an obstacle before any free cell in all eight directions.
   bool insideObject(int gix, int giy) const;
+  /// The cell nearest (gx, gy) within @p radius (m, centre distance) that is neither lethal nor
+  /// occupied, ties to the larger clearance; false when there is none.
+  bool nearestClear(const NavGrid& grid, double gx, double gy, double radius, int& ix, int& iy) const;
   void extract(const NavGrid& grid, std::size_t start, std::size_t goal, Plan& out) const;
 
   /// Marks the cells of the blocked discs occupied in cells_.

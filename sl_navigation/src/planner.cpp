@@ -283,7 +283,7 @@ bool Planner::nearestClear(const NavGrid& grid, double gx, double gy, double rad
     for (int x = std::max(1, cx - r); x <= std::min(n_ - 2, cx + r); ++x)
     {
       const double d = std::hypot(grid.centerX(x) - gx, grid.centerY(y) - gy);
-      if (d > radius || lethal(x, y) || d > best + 1e-9 || (d > best - 1e-9 && clearance(x, y) <= best_clearance))
+      if (d > radius || lethal(x, y) || unknown(x, y) || d > best + 1e-9 || (d > best - 1e-9 && clearance(x, y) <= best_clearance))
       {
         continue;
       }

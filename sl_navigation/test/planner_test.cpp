@@ -16,9 +16,19 @@ namespace
 class Map
 {
 public:
-  Map() : grid_(params())
+  /// With x0 < x1, the box [x0, x1] x [y0, y1] stays unknown (never seen).
+  explicit Map(double x0 = 0.0, double y0 = 0.0, double x1 = 0.0, double y1 = 0.0) : grid_(params())
   {
     std::vector<std::int8_t> free(200 * 200, 0);
+    for (int iy = 0; iy < 200; ++iy)
+    {
+      for (int ix = 0; ix < 200; ++ix)
+      {
+        const double x = -5.0 + (ix + 0.5) * 0.05;
+        const double y = -5.0 + (iy + 0.5) * 0.05;
+        free[iy * 200 + ix] = x > x0 && x < x1 && y > y0 && y < y1 ? -1 : 0;
+      }
+    }
     OccupancyView v;
     v.data = free.data();
     v.width = v.height = 200;
@@ -46,7 +56,6 @@ public:
     v.data = data.data();
     grid_.fuse(v, 0.0);
   }
-  /// Forgets [x0, x1] x [y0, y1] (unknown) by a fresh grid with the free window less that box.
   NavGrid& grid() { return grid_; }
 
 private:
@@ -152,6 +161,18 @@ TEST(Planner, AGoalTooNearAnObstacleMovesWithinTheToleranceOnly)
   EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 0.9, 0.0, 0.075).status, PlanStatus::GOAL_BLOCKED);
   EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 1.5, 0.0, 0.075).status, PlanStatus::GOAL_BLOCKED);
   EXPECT_EQ(planner.plan(m.grid(), -2.0, 0.0, 0.83, 0.0).status, PlanStatus::GOAL_BLOCKED);  // no tolerance
+}
+
+TEST(Planner, AGoalIsNeverMovedIntoUnseenSpace)
+{
+  // A box seen only from its front (x = 1.0): a goal 0.2 m inside it is too near that face, and the
+  // cells farther in are unseen. Moving the goal there would send the robot around to look for a way in.
+  Map m(1.05, -1.0, 3.0, 1.0);
+  m.wall(1.0, -1.0, 1.05, 1.0);
+  Planner planner(PlannerParams(), m.grid().width());
+  planner.update(m.grid(), 0.0);
+  const Plan inside = planner.plan(m.grid(), -2.0, 0.0, 1.22, 0.0, 0.075);
+  EXPECT_EQ(inside.status, PlanStatus::GOAL_BLOCKED) << inside.text;
 }
 
 TEST(Planner, AnEnclosedGoalHasNoPath)

@@ -97,9 +97,10 @@ public:
   void setBlocked(const std::vector<Disc>& discs) { blocked_ = discs; }
   /// Plans from (sx, sy) to (gx, gy) on the last update()'s state of @p grid. A goal nearer than
   /// lethalDistance() to an obstacle is moved to the nearest cell centre within @p tolerance (m) that
-  /// is not (as navfn's tolerance): a goal beside furniture, or a lone cell seen occupied next to it,
-  /// is approached as far as it is safe instead of refused; Plan::goal_shift says how far it moved.
-  /// With no such cell, or @p tolerance 0, the goal is refused (GOAL_BLOCKED).
+  /// is known free and not lethal (as navfn's tolerance): a goal beside furniture, or a lone cell seen
+  /// occupied next to it, is approached as far as it is safe instead of refused; Plan::goal_shift says
+  /// how far it moved. Unknown cells are no candidates: a goal inside furniture would move into the
+  /// furniture's unseen inside. With no such cell, or @p tolerance 0, the goal is refused (GOAL_BLOCKED).
   Plan plan(const NavGrid& grid, double sx, double sy, double gx, double gy, double tolerance = 0.0);
 
   /// Cost (as Plan::cost) of the polyline @p points from index @p first on, on the last update();
@@ -121,8 +122,8 @@ private:
   float stepFactor(std::size_t i) const { return factor_[i]; }
   /// True when unknown cell (gix, giy) meets an obstacle before any free cell in all eight directions.
   bool insideObject(int gix, int giy) const;
-  /// The cell nearest (gx, gy) within @p radius (m, centre distance) that is neither lethal nor
-  /// occupied, ties to the larger clearance; false when there is none.
+  /// The known-free, not lethal cell nearest (gx, gy) within @p radius (m, centre distance), ties to
+  /// the larger clearance; false when there is none.
   bool nearestClear(const NavGrid& grid, double gx, double gy, double radius, int& ix, int& iy) const;
   void extract(const NavGrid& grid, std::size_t start, std::size_t goal, Plan& out) const;
 

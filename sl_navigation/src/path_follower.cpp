@@ -13,6 +13,7 @@ namespace
 constexpr double kSweepStep = 0.025;       // m between the discs swept along the path
 constexpr double kLookSpacing = 0.2;       // m of travel for each two looks
 constexpr double kReturnTolerance = 0.15;  // rad: after a look, the turn back ends this near the path
+constexpr double kRefused = 0.01;          // m/s: a filter's limit below this refused the command
 
 double hypot2(const Point& a, const Point& b)
 {
@@ -334,8 +335,11 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double spe
   const Point target = pointAhead(params_.lookahead);
   const double dist = std::max(1e-3, std::hypot(target.x - pose.x, target.y - pose.y));
   const double alpha = wrapAngle(std::atan2(target.y - pose.y, target.x - pose.x) - pose.yaw);
-  // After a look, turn back in place: an arc back to the path would sweep the unseen side.
-  returning_ = returning_ && std::abs(alpha) > kReturnTolerance;
+  // After a look, turn back in place: an arc back to the path would sweep the unseen side. So too
+  // when the filter refused the last arc outright (what it crosses within the clearance is unknown
+  // or occupied): facing the path brings the arc into the camera's narrow view, where turning at
+  // the arc's own slow rate would take seconds to.
+  returning_ = (returning_ || speed_cap < kRefused) && std::abs(alpha) > kReturnTolerance;
   if (returning_ || std::abs(alpha) > params_.rotate_threshold)
   {
     rotateTo(alpha, FollowMode::ROTATE);

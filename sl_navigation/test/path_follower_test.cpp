@@ -97,6 +97,41 @@ TEST(PathFollower, SpeedObeysTheStoppingDistanceRule)
   }
 }
 
+TEST(PathFollower, FacesThePathInPlaceWhenTheFilterRefusesAnArc)
+{
+  Window w;
+  // A path 0.5 rad to the left of the heading: driven as an arc, unless the filter refuses it.
+  std::vector<Point> path;
+  for (double s = 0.0; s <= 1.5; s += 0.05)
+  {
+    path.push_back({ s * std::cos(0.5), s * std::sin(0.5) });
+  }
+  PathFollower f;
+  f.setPath(path, 0.0, false);
+  const FollowCommand arc = run(f, Pose(), w.get(), 5);
+  EXPECT_EQ(arc.mode, FollowMode::DRIVE) << arc.text;
+  EXPECT_GT(arc.linear, 0.0);
+  // Refused (speed cap 0): it turns toward the path at the turn speed, and keeps turning although
+  // the next answer (to a turn) is no refusal, until the path lies within 0.15 rad of the heading.
+  Pose pose;
+  FollowCommand c = f.step(pose, w.get(), 1.0, 0.0);
+  EXPECT_EQ(c.mode, FollowMode::ROTATE) << c.text;
+  EXPECT_EQ(c.linear, 0.0);
+  EXPECT_GT(c.angular, arc.angular);
+  int turns = 0;
+  for (int i = 1; i < 40 && c.mode == FollowMode::ROTATE; ++i, ++turns)
+  {
+    pose.yaw += c.angular * 0.05;
+    c = f.step(pose, w.get(), 1.0 + 0.05 * i);
+  }
+  EXPECT_EQ(c.mode, FollowMode::DRIVE) << c.text;
+  EXPECT_GT(turns, 2);
+  EXPECT_GT(pose.yaw, 0.2);
+  EXPECT_LT(pose.yaw, 0.5);
+  // A refusal with the path ahead changes nothing: the filter and the stuck handling decide.
+  EXPECT_EQ(f.step(pose, w.get(), 3.5, 0.0).mode, FollowMode::DRIVE);
+}
+
 TEST(PathFollower, StopsAsBlockedWithAnObstacleWithinTheClearance)
 {
   Window w;

@@ -129,7 +129,8 @@ public:
   /// One control step at @p now (s) from @p pose on @p window. @p speed_cap (m/s) is what the safety
   /// filter let through of the last command when it limited it (+inf when it did not): the speed
   /// rises from there by the acceleration, so that the command and the filter's output stay close and
-  /// the arc driven is the arc commanded.
+  /// the arc driven is the arc commanded. A refusal (below 0.01 m/s) with the path more than 0.15 rad
+  /// off the heading turns the robot in place to face it first.
   const FollowCommand& step(const Pose& pose, const ExecWindow& window, double now,
                             double speed_cap = std::numeric_limits<double>::infinity());
   /// The parameters.

@@ -388,7 +388,10 @@ void LocalMap::applyBatch(double stamp)
     // row a suspect at another depth, scattered where the free rays know better.
     if (f & kFlagHit)
     {
-      l = std::min(l + hit, clamp);
+      // A decoded point lifts a slice seen free to unknown first: the free rays of clouds placed a
+      // few centimetres off (odometry and timing while turning) clear the cells around a thin leg,
+      // and its hits, spread over them by the same error, must still mark it in the next cloud.
+      l = std::min(std::max(l, 0.0F) + hit, clamp);
       std::uint8_t& hits = extent_[v / slices_].hits;  // one per cloud and slice
       hits = hits < 255 ? hits + 1 : 255;
     }

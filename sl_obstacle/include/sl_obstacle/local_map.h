@@ -115,7 +115,9 @@ public:
   /// pairs (a surface seen again and again) only a ray through the middle of that box (shrunk by a quarter cell, but at
   /// least a twentieth of a cell either side of its centre): a ray beside a thin obstacle in the same cell, or grazing
   /// its flank from another side, says nothing about it. Hit ends
-  /// inside the band raise their slice by `hit`, Suspect ends by `suspect`; within one batch a
+  /// inside the band raise their slice by `hit`, from 0 where it was negative (one decoded point makes
+  /// a slice occupied whatever free rays said: clouds placed a few centimetres off while the robot
+  /// turns clear the cells around a thin leg), Suspect ends by `suspect`; within one batch a
   /// slice changes once: occupied beats suspect beats free where two or more Suspect rays end in
   /// the voxel, and free beats a lone Suspect end. Rays are clipped to the window; rays with a non-finite
   /// coordinate are ignored (counted in invalidRays()). No allocation.

@@ -18,7 +18,7 @@ namespace
 constexpr std::uint8_t kFlagHit = 1;
 constexpr std::uint8_t kFlagFree = 2;
 constexpr std::uint8_t kFlagSuspect = 4;
-constexpr std::uint8_t kFlagSuspects = 8;  // two or more lit ends in the voxel in one batch
+constexpr std::uint8_t kFlagSuspects = 8;   // two or more lit ends in the voxel in one batch
 constexpr std::uint8_t kFlagNearFree = 16;  // crossed free within near_free of a ray's start only
 constexpr std::size_t kNoVoxel = std::numeric_limits<std::size_t>::max();
 constexpr double kInf = std::numeric_limits<double>::infinity();

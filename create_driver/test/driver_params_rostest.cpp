@@ -28,7 +28,6 @@ TEST(DriverParams, DriverNodeExitsNamingTheParameter)
   expectExitNaming("create_driver_node", "__name:=bad_driver0 _max_speed:=-1", "~max_speed must be in (0, 0.5]");
   expectExitNaming("create_driver_node", "__name:=bad_driver1 _oi_mode:=fast", "~oi_mode");
   expectExitNaming("create_driver_node", "__name:=bad_driver2 _baud:=fast", "~baud must be an integer");
-  expectExitNaming("create_driver_node", "__name:=bad_driver3 _sensor_delay:=0.5", "~sensor_delay must be in [0, 0.2]");
 }
 
 TEST(DriverParams, SimNodeExitsNamingTheParameter)

@@ -352,7 +352,8 @@ void PathFollower::drive(const Pose& pose, const Sweep& s, double dt, double spe
   v = std::min(v, margin > 0.0 ? std::sqrt(2.0 * a * margin) : 0.0);
   v = std::min(v, speed_cap + params_.acceleration * dt);
   v = std::max(v, params_.min_speed);  // not blocked (step() checked): the filter decides
-  v = std::min(v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * tolerance_)) + params_.min_speed);
+  v = std::min(
+      v, std::sqrt(2.0 * a * std::max(0.0, out_.goal_distance - 0.5 * tolerance_)) + params_.min_speed);
   if (std::abs(curvature) > 1e-6)
   {
     v = std::min(v, params_.max_angular / std::abs(curvature));

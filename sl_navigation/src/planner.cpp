@@ -283,8 +283,7 @@ bool Planner::nearestClear(const NavGrid& grid, double gx, double gy, double rad
     for (int x = std::max(1, cx - r); x <= std::min(n_ - 2, cx + r); ++x)
     {
       const double d = std::hypot(grid.centerX(x) - gx, grid.centerY(y) - gy);
-      if (d > radius || lethal(x, y) || unknown(x, y) || d > best + 1e-9 ||
-          (d > best - 1e-9 && clearance(x, y) <= best_clearance))
+      if (d > radius || lethal(x, y) || unknown(x, y) || d > best + 1e-9 || (d > best - 1e-9 && clearance(x, y) <= best_clearance))
       {
         continue;
       }
@@ -364,8 +363,7 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
   const float res = static_cast<float>(resolution_);
   const float escape_cells = static_cast<float>(params_.escape_radius / resolution_);
   const float escape_factor = 1.0f + 2.0f * static_cast<float>(params_.obstacle_cost) + 1.0f;
-  auto heuristic = [&](int ix, int iy)
-  {
+  auto heuristic = [&](int ix, int iy) {
     const float dx = static_cast<float>(std::abs(ix - gix));
     const float dy = static_cast<float>(std::abs(iy - giy));
     return res * (std::max(dx, dy) + (kSqrt2 - 1.0f) * std::min(dx, dy));
@@ -377,8 +375,7 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
   const float inv_width = 4.0f / res;
   std::size_t current = 0;
   std::size_t pending = 0;
-  auto push = [&](float f, float g, std::uint32_t cell)
-  {
+  auto push = [&](float f, float g, std::uint32_t cell) {
     const std::size_t b = std::max(current, static_cast<std::size_t>(std::max(0.0f, (f - f0) * inv_width)));
     if (b >= buckets_.size())
     {
@@ -470,8 +467,8 @@ Plan Planner::plan(const NavGrid& grid, double sx, double sy, double gx, double 
     out.length += std::hypot(out.points[k].x - out.points[k - 1].x, out.points[k].y - out.points[k - 1].y);
   }
   out.status = PlanStatus::OK;
-  std::snprintf(text, sizeof(text), "path of %.2f m to (%.2f, %.2f), %d unknown cells, %d cells searched", out.length,
-                gx, gy, out.unknown_cells, expansions);
+  std::snprintf(text, sizeof(text), "path of %.2f m to (%.2f, %.2f), %d unknown cells, %d cells searched",
+                out.length, gx, gy, out.unknown_cells, expansions);
   out.text = text;
   if (out.goal_shift > 0.0)
   {

@@ -213,9 +213,7 @@ private:
 
   void publish(const FrameActions& a)
   {
-    // The frame's sensors were sampled before it arrived and was parsed (sensor_delay).
-    const ros::Time now = ros::Time::now();
-    const ros::Time stamp = now.toSec() > params_.sensor_delay ? now - ros::Duration(params_.sensor_delay) : now;
+    const ros::Time stamp = ros::Time::now();
     const DriverSnapshot& s = a.snapshot;
     const nav_msgs::Odometry odom = odometryMessage(s, stamp, params_.odom_frame, params_.base_frame);
     odom_pub_.publish(odom);

@@ -1,8 +1,6 @@
 #include "driver_params.h"
 
-#include <cmath>
 #include <stdexcept>
-#include <string>
 
 #include "sl_params/params.h"
 
@@ -85,9 +83,6 @@ DriverNodeParams readDriverParams(const ros::NodeHandle& pnh)
   require(!p.odom_frame.empty() && !p.base_frame.empty() && p.odom_frame != p.base_frame,
           "~odom_frame and ~base_frame must be non-empty and different");
   p.publish_tf = sl_params::read<bool>(pnh, "publish_tf", true);
-  p.sensor_delay = sl_params::read<double>(pnh, "sensor_delay", 0.02);
-  require(std::isfinite(p.sensor_delay) && p.sensor_delay >= 0.0 && p.sensor_delay <= 0.2,
-          "~sensor_delay must be in [0, 0.2] s (got " + std::to_string(p.sensor_delay) + ")");
 
   LinkParams& l = p.link.link;
   l.initial_backoff = sl_params::read<double>(pnh, "reconnect_initial_delay", 0.25);

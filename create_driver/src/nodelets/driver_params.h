@@ -20,9 +20,6 @@ struct DriverNodeParams
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
   bool publish_tf = true;
-  /// s from the Create's sensor sample to the publication of its frame: what is published is
-  /// stamped this much earlier, so that a tf lookup at a camera's exposure time finds the pose then.
-  double sensor_delay = 0.02;
 };
 
 /// Reads the private parameters of the driver; throws std::invalid_argument naming the parameter.

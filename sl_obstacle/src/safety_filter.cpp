@@ -292,14 +292,16 @@ SafetyFilter::Travels SafetyFilter::travels(const LocalMap& map, const FilterInp
   const double obstacle = same ? cloud : std::min(swept.obstacle, cloud);
   // Unknown cells from a cell before the obstacle on are its shadow: reached only through it.
   const double shadow = same ? body : obstacle - res;
-  const auto unknownAt = [&](double cells) { return cells >= shadow ? kInf : cells; };
-  const double to_obstacle = std::min(obstacle, length) - params_.obstacle_clearance;
-  const double checked = length - std::max(params_.clearance, params_.obstacle_clearance);
-  const double to_unknown = unknownAt(swept.unknown) - params_.clearance;
-  t.known = std::min({ to_unknown, to_obstacle, checked });
-  t.open = std::min({ unknownAt(swept.evidence) - params_.clearance, to_obstacle, checked });
-  t.edge = std::min({ to_unknown, std::min(obstacle, length) - params_.edge_clearance,
-                      length - std::max(params_.clearance, params_.edge_clearance) });
+  // The travel to the first unknown cell counted (@p unknown) less the clearance, or to the obstacle
+  // less @p keep, within what was checked.
+  const auto travel = [&](double unknown, double keep)
+  {
+    const double to_unknown = (unknown >= shadow ? kInf : unknown) - params_.clearance;
+    return std::min({ to_unknown, std::min(obstacle, length) - keep, length - std::max(params_.clearance, keep) });
+  };
+  t.known = travel(swept.unknown, params_.obstacle_clearance);
+  t.open = travel(swept.evidence, params_.obstacle_clearance);
+  t.edge = travel(swept.unknown, params_.edge_clearance);
   return t;
 }
 

@@ -18,7 +18,8 @@ namespace
 constexpr std::uint8_t kFlagHit = 1;
 constexpr std::uint8_t kFlagFree = 2;
 constexpr std::uint8_t kFlagSuspect = 4;
-constexpr std::uint8_t kFlagSuspects = 8;  // two or more lit ends in the voxel in one batch
+constexpr std::uint8_t kFlagSuspects = 8;   // two or more lit ends in the voxel in one batch
+constexpr std::uint8_t kFlagNearFree = 16;  // crossed free within near_free of a ray's start only
 constexpr std::size_t kNoVoxel = std::numeric_limits<std::size_t>::max();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kMaxCellsPerSide = 4096;
@@ -108,6 +109,7 @@ void MapParams::validate() const
   fail(openClosed("map_hit", hit, 0.0, clamp));
   fail(openClosed("map_miss", miss, 0.0, clamp));
   fail(detail::inRange("map_suspect", suspect, 0.0, clamp));
+  fail(detail::inRange("map_near_free", near_free, 0.0, 2.0));
   if (!(occupied_threshold > 0.0 && occupied_threshold < clamp))
   {
     fail(detail::complaint("map_occupied_threshold", "must be in (0, map_clamp)", occupied_threshold));
@@ -248,7 +250,7 @@ void LocalMap::touch(std::size_t v, std::uint8_t flag)
   flags_[v] |= flag;
 }
 
-void LocalMap::flagCrossed(std::size_t cell, double z0, double z1, std::size_t skip_voxel)
+void LocalMap::flagCrossed(std::size_t cell, double z0, double z1, std::size_t skip_voxel, bool near)
 {
   const double lo = std::max(std::min(z0, z1), params_.z_min);
   const double hi = std::min(std::max(z0, z1), params_.z_max);
@@ -261,7 +263,7 @@ void LocalMap::flagCrossed(std::size_t cell, double z0, double z1, std::size_t s
   {
     if (base + k != skip_voxel)
     {
-      touch(base + k, kFlagFree);
+      touch(base + k, near ? kFlagNearFree : kFlagFree);
     }
   }
 }
@@ -338,6 +340,8 @@ void LocalMap::traverse(const MapRay& r)
   double next_y = dy > 0 ? ((iy + 1) * res - py) / dy : dy < 0 ? (iy * res - py) / dy : kInf;
   const double delta_x = dx != 0 ? res / std::fabs(dx) : kInf;
   const double delta_y = dy != 0 ? res / std::fabs(dy) : kInf;
+  const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double near_t = length > 0.0 ? params_.near_free / length : 0.0;  // ray parameter of near_free
   for (int guard = 0; guard <= 2 * n_ + 2; ++guard)
   {
     const double t_next = std::min(t1, std::min(next_x, next_y));
@@ -345,7 +349,7 @@ void LocalMap::traverse(const MapRay& r)
     if (passesHits(cell, (px + t * dx) * inv_res_ - ix, (py + t * dy) * inv_res_ - iy, dx * inv_res_, dy * inv_res_,
                    t_next - t))
     {
-      flagCrossed(cell, r.sz + t * dz, r.sz + t_next * dz, skip);
+      flagCrossed(cell, r.sz + t * dz, r.sz + t_next * dz, skip, t_next < near_t);
     }
     if (t_next >= t1)
     {
@@ -395,14 +399,16 @@ void LocalMap::applyBatch(double stamp)
       std::uint8_t& hits = extent_[v / slices_].hits;  // one per cloud and slice
       hits = hits < 255 ? hits + 1 : 255;
     }
-    else if ((f & kFlagSuspects) || !(f & kFlagFree))
+    else if ((f & kFlagSuspects) || !(f & (kFlagFree | kFlagNearFree)))
     {
       l = std::min(l + suspect, clamp);
     }
-    else
+    else if ((f & kFlagFree) || l <= 0.0F || extent_[v / slices_].hits < kConfirmedHits)
     {
       l = std::max(l - miss, -clamp);
     }
+    // else: only rays still near their start crossed a slice of a surface decoded again and again
+    // (a stray decoding has too few hits to be kept): it stays.
     flags_[v] = 0;
     forgetExtentIfEmpty(v / slices_);
   }

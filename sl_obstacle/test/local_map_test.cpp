@@ -145,6 +145,59 @@ TEST(LocalMap, RaysBesideAThinObstacleInItsCellDoNotEraseIt)
   EXPECT_EQ(map.state(0.51, 0.01, 3.0), CellState::Free);
 }
 
+/// A leg's face decoded across the cell [0.50, 0.52) x [0.00, 0.02) in @p clouds clouds from x = -0.04.
+void insertLegFace(LocalMap& map, int clouds)
+{
+  for (int i = 0; i < clouds; ++i)
+  {
+    std::vector<MapRay> rays;
+    for (float y : { 0.004F, 0.010F, 0.016F })
+    {
+      rays.push_back(ray(-0.04F, y, kLow, 0.505F, y, kLow, RayKind::Hit));
+      rays.push_back(ray(-0.04F, y, kHigh, 0.505F, y, kHigh, RayKind::Hit));
+    }
+    map.insert(rays, 0.1 * i);
+  }
+}
+
+/// 20 clouds of floor rays from @p sx through the middle of that cell, from @p t0.
+void insertRaysThroughLeg(LocalMap& map, float sx, double t0)
+{
+  for (int i = 0; i < 20; ++i)
+  {
+    map.insert(bothSlices(sx, 1.0F, 0.010F, RayKind::Free), t0 + 0.1 * i);
+  }
+}
+
+TEST(LocalMap, RaysStillNearTheProjectorDoNotEraseADecodedLeg)
+{
+  // A leg decoded from 0.55 m in five clouds, then left alone for 60 s (decayed, still evidence);
+  // the robot comes to face it from 0.18 m, too near to decode it, and floor rays of 20 clouds pass
+  // through its cell (a centimetre of misregistration is enough). Near the projector those rays do
+  // not erase it; from farther away the same rays do, and near ones erase a stray decoding.
+  LocalMap map{ MapParams() };
+  insertLegFace(map, 5);
+  ASSERT_EQ(map.state(0.51, 0.01, 0.5), CellState::Occupied);
+  insertRaysThroughLeg(map, 0.33F, 60.0);
+  const CellInfo near = map.cellInfo(map.cellIndex(0.51), map.cellIndex(0.01), 62.0);
+  EXPECT_NE(near.state, CellState::Free) << "erased by rays 0.18 m from their start";
+  EXPECT_TRUE(near.evidence);
+  EXPECT_EQ(map.state(0.8, 0.01, 62.0), CellState::Free) << "the floor beyond is free";
+  insertRaysThroughLeg(map, -0.04F, 62.0);  // from 0.55 m: their free part counts there
+  EXPECT_EQ(map.state(0.51, 0.01, 64.0), CellState::Free);
+  MapParams off;
+  off.near_free = 0.0;  // the rule off: the near rays erase it
+  LocalMap plain{ off };
+  insertLegFace(plain, 5);
+  insertRaysThroughLeg(plain, 0.33F, 60.0);
+  EXPECT_EQ(plain.state(0.51, 0.01, 62.0), CellState::Free);
+  LocalMap stray{ MapParams() };  // decoded in one cloud only (2 pairs): near rays erase it
+  insertLegFace(stray, 1);
+  ASSERT_EQ(stray.state(0.51, 0.01, 0.5), CellState::Occupied);
+  insertRaysThroughLeg(stray, 0.33F, 60.0);
+  EXPECT_EQ(stray.state(0.51, 0.01, 62.0), CellState::Free);
+}
+
 TEST(LocalMap, AStrayHitIsErasedByRaysNearItAConfirmedSurfaceOnlyThroughIt)
 {
   // One decoded point (a stray decoding, both slices): rays 4 mm beside it, within a quarter cell,
@@ -731,6 +784,8 @@ TEST(LocalMap, BadParametersThrowNamingTheField)
   EXPECT_EQ(bad([](MapParams& p) { p.miss = -0.4; }).rfind("map_miss", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.suspect = 5.0; }).rfind("map_suspect", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.clamp = 0.0; }).rfind("map_clamp", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.near_free = -0.1; }).rfind("map_near_free", 0), 0U);
+  EXPECT_EQ(bad([](MapParams& p) { p.near_free = std::nan(""); }).rfind("map_near_free", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.occupied_threshold = 4.0; }).rfind("map_occupied_threshold", 0), 0U);
   EXPECT_EQ(bad([](MapParams& p) { p.free_threshold = 0.1; }).rfind("map_free_threshold", 0), 0U);
   EXPECT_NE(bad([](MapParams& p) { p.resolution = 0.3; }).find("got 0.3"), std::string::npos);

@@ -34,6 +34,11 @@ struct MapParams
   double miss = 0.4;
   /// Log-odds added to a slice holding a lit (suspect) end point.
   double suspect = 0.5;
+  /// Distance (m) from a ray's start within which its free part does not lower a slice that holds
+  /// positive log-odds (also decayed) in a cell with hits from 3 or more (cloud, slice) pairs: next
+  /// to the projector a thin leg is too near to be decoded and the floor rays that pass it by
+  /// millimetres would erase it (0: off).
+  double near_free = 0.3;
   /// Limit of |log-odds| of a slice.
   double clamp = 3.5;
   /// A cell is occupied when any slice's log-odds is above this (in (0, clamp)).
@@ -114,7 +119,8 @@ public:
   /// quarter cell) counts, and while the cell is occupied with hits from 3 or more (cloud, slice)
   /// pairs (a surface seen again and again) only a ray through the middle of that box (shrunk by a quarter cell, but at
   /// least a twentieth of a cell either side of its centre): a ray beside a thin obstacle in the same cell, or grazing
-  /// its flank from another side, says nothing about it. Hit ends
+  /// its flank from another side, says nothing about it. Nor does the free part within near_free of
+  /// the ray's start lower a slice holding positive log-odds in a cell with 3 or more such pairs. Hit ends
   /// inside the band raise their slice by `hit`, from 0 where it was negative (one decoded point makes
   /// a slice occupied whatever free rays said: clouds placed a few centimetres off while the robot
   /// turns clear the cells around a thin leg), Suspect ends by `suspect`; within one batch a
@@ -195,8 +201,9 @@ private:
   void touch(std::size_t v, std::uint8_t flag);
   /// Traverses one finite ray and flags its slices.
   void traverse(const MapRay& r);
-  /// Flags the slices a straight piece of the ray crosses inside one cell.
-  void flagCrossed(std::size_t cell, double z0, double z1, std::size_t skip_voxel);
+  /// Flags the slices a straight piece of the ray crosses inside one cell (@p near: the piece ends
+  /// within near_free of the ray's start).
+  void flagCrossed(std::size_t cell, double z0, double z1, std::size_t skip_voxel, bool near);
   /// Applies the flagged updates of the current batch.
   void applyBatch(double stamp);
   /// Sets every slice of the cells in the disc to @p value (with @p keep_seen, not in cells where a

@@ -37,6 +37,8 @@ void NavigatorParams::validate() const
   detail::requireRange("look_around", look_around, 0.0, M_PI);
   detail::requireRange("refused_memory", refused_memory, 0.0, 3600.0);
   detail::requireRange("map_timeout", map_timeout, 0.1, 60.0);
+  detail::requireRange("unseen_goal_distance", unseen_goal_distance, 0.0, 5.0);
+  detail::requireRange("unseen_goal_time", unseen_goal_time, 1.0, 600.0);
 }
 
 const char* toString(NavState state)
@@ -127,6 +129,8 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   progress_time_ = now;
   has_last_pose_ = false;
   told_to_drive_ = false;
+  unseen_time_ = 0.0;
+  last_step_ = std::numeric_limits<double>::quiet_NaN();
   look_step_ = -1;
   backoff_phase_ = 0;
   return std::string();
@@ -341,6 +345,14 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
                   params_.progress_timeout, c.remaining, c.goal_distance);
     return endNow(NavState::ABORTED, text);
   }
+  if (goalStaysUnseen(pose, now))
+  {
+    std::snprintf(text, sizeof(text),
+                  "goal aborted: still unseen after %.0f s within %.2f m of it (%.2f m of path left): inside or "
+                  "behind something",
+                  unseen_time_, params_.unseen_goal_distance, c.remaining);
+    return endNow(NavState::ABORTED, text);
+  }
   const double search = params_.max_detour * goal_distance_ + kSearchAllowance;
   if (out_.travelled > search)
   {
@@ -355,6 +367,26 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
   out_.reason = now - blocked_time_ < 3.0 ? blocked_text_ + "; " + c.text : c.text;
   told_to_drive_ = c.linear > 0.0;
   return out_;
+}
+
+Point Navigator::pathEnd() const
+{
+  // A goal too near an obstacle is moved a little: the plan's end is where the robot is to stop.
+  const bool planned = plan_.status == PlanStatus::OK && !plan_.points.empty();
+  return planned ? plan_.points.back() : Point{ goal_.x, goal_.y };
+}
+
+bool Navigator::goalStaysUnseen(const Pose& pose, double now)
+{
+  const double dt = std::isnan(last_step_) ? 0.0 : std::max(0.0, now - last_step_);
+  last_step_ = now;
+  const Point end = pathEnd();
+  const bool near = std::hypot(end.x - pose.x, end.y - pose.y) <= params_.unseen_goal_distance;
+  if (near && grid_.at(end.x, end.y, now) == Cell::Unknown)
+  {
+    unseen_time_ += dt;
+  }
+  return unseen_time_ >= params_.unseen_goal_time;
 }
 
 void Navigator::checkStuck(const Pose& pose, double now)

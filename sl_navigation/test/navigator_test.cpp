@@ -277,10 +277,41 @@ TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
   std::printf("goal inside the box: %s after %.1f s: %s\n", toString(r.state), r.time, r.reason.c_str());
   EXPECT_EQ(r.state, NavState::ABORTED);
   const bool why = r.reason.find("inside an object") != std::string::npos ||
-                   r.reason.find("enclosed") != std::string::npos;
+                   r.reason.find("enclosed") != std::string::npos || r.reason.find("unseen") != std::string::npos;
   EXPECT_TRUE(why) << r.reason;
-  EXPECT_LE(r.time, 3.0 * nav.params().progress_timeout);  // measured 64 s: once its walls are seen
+  // Measured 47 s: 27 s to get near, then unseen_goal_time (20 s) of its inside never seen (64 s
+  // before that rule, once all its walls were seen).
+  EXPECT_LE(r.time, 60.0);
   EXPECT_GT(r.min_clearance, 0.0);
+  NavigatorParams off = params();
+  off.unseen_goal_distance = 0.0;  // the rule off: refused only once the box's walls are all seen
+  Navigator plain(off);
+  ASSERT_TRUE(plain.setGoal(NavGoal{ 1.9, -1.2, 0.0, false }, 100.0).empty());
+  const LoopRun late = drive(plain, world, start, 90.0);
+  std::printf("the same without unseen_goal_distance: %s after %.1f s: %s\n", toString(late.state), late.time,
+              late.reason.c_str());
+  EXPECT_EQ(late.reason.find("unseen"), std::string::npos) << late.reason;
+  EXPECT_GT(late.time, r.time + 5.0);
+}
+
+TEST(Navigator, BadParametersThrowNamingThem)
+{
+  const auto bad = [](void (*change)(NavigatorParams&)) {
+    NavigatorParams p;
+    change(p);
+    try
+    {
+      p.validate();
+    }
+    catch (const std::invalid_argument& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(bad([](NavigatorParams& p) { p.unseen_goal_distance = -0.1; }).rfind("unseen_goal_distance", 0), 0U);
+  EXPECT_EQ(bad([](NavigatorParams& p) { p.unseen_goal_time = std::nan(""); }).rfind("unseen_goal_time", 0), 0U);
+  EXPECT_EQ(bad([](NavigatorParams& p) { p.refuse_time = 61.0; }).rfind("refuse_time", 0), 0U);
 }
 
 TEST(Navigator, AbortsAGoalBehindAClosedWallWithinTheBound)

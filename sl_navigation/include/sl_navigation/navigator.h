@@ -35,6 +35,12 @@ struct NavigatorParams
   /// place (the safety filter refuses what the map shows passable); 0: never (refused_memory)
   double refused_memory = 120.0;
   double map_timeout = 2.0;  ///< s without a local map before the robot stops (map_timeout)
+  /// A goal whose map cell stays unknown while the robot is within unseen_goal_distance (m) of it
+  /// for unseen_goal_time (s) in all is ABORTED: from that near the camera sees an open goal at
+  /// once, so one still unseen lies inside or behind something (a sofa whose inside is never seen).
+  /// 0: off (unseen_goal_distance)
+  double unseen_goal_distance = 0.8;
+  double unseen_goal_time = 20.0;  ///< s, see unseen_goal_distance (unseen_goal_time)
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -169,6 +175,13 @@ private:
   Pose still_pose_;           // where the robot stood when it was last seen to move
   double still_since_ = 0.0;  // since when it stands there while told to drive
   bool told_to_drive_ = false;
+  double unseen_time_ = 0.0;  // s the goal stayed unknown while the robot was near it
+  double last_step_ = std::numeric_limits<double>::quiet_NaN();
+  /// Adds the time since the last step while the goal's cell is unknown and the robot within
+  /// unseen_goal_distance of it; true once that passes unseen_goal_time.
+  bool goalStaysUnseen(const Pose& pose, double now);
+  /// Where the robot is to stop: the plan's end, or the goal without a plan.
+  Point pathEnd() const;
   /// Starts a look-around when the robot does not follow its commands.
   void checkStuck(const Pose& pose, double now);
   /// One step of the look-around; false once it is done.

@@ -68,6 +68,8 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "look_around", n.look_around);
   get(pnh, "refused_memory", n.refused_memory);
   get(pnh, "map_timeout", n.map_timeout);
+  get(pnh, "unseen_goal_distance", n.unseen_goal_distance);
+  get(pnh, "unseen_goal_time", n.unseen_goal_time);
   const std::string behaviour = sl_params::read(pnh, "behaviour", std::string("navigate"));
   p.cover = behaviour == "cover";
   CoverageParams& c = p.coverage;

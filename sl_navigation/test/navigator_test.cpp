@@ -107,7 +107,7 @@ World furnishedRooms()
   World w = walledRoom();
   w.box(0.0, -2.5, 0.1, 0.3);  // the dividing wall, door at y in (0.3, 1.1)
   w.box(0.0, 1.1, 0.1, 2.5);
-  w.post(1.2, 0.9, 0.02);      // a table leg
+  w.post(1.2, 0.9, 0.02);       // a table leg
   w.box(1.6, -1.5, 2.2, -0.9);  // a box
   return w;
 }
@@ -138,8 +138,8 @@ NavigatorParams params()
 TEST(Navigator, ReachesAGoalThroughADoorWithoutTouchingAnything)
 {
   const World world = furnishedRooms();
-  for (const NavGoal& goal : { NavGoal{ 2.2, 0.0, 0.0, false }, NavGoal{ 2.4, 1.8, 0.0, false },
-                               NavGoal{ 1.0, -2.0, 0.0, false } })
+  for (const NavGoal& goal :
+       { NavGoal{ 2.2, 0.0, 0.0, false }, NavGoal{ 2.4, 1.8, 0.0, false }, NavGoal{ 1.0, -2.0, 0.0, false } })
   {
     Navigator nav(params());
     Pose start;
@@ -190,10 +190,11 @@ TEST(Navigator, TakesAnotherWayWhereTheSafetyFilterKeepsRefusing)
     };
     const LoopRun r = drive(nav, world, start, 240.0, refuse_door);
     nearest_door = std::min(nearest_door, std::hypot(r.pose.x - door_x, r.pose.y - door_y));
-    std::printf("refused_memory %.0f s: %s after %.1f s at (%.2f, %.2f), %zu back-off(s), %zu place(s) blocked, "
-                "nearest the refused door %.2f m: %s\n",
-                refused_memory, toString(r.state), r.time, r.pose.x, r.pose.y, nav.backoffs(), nav.blockedPlaces(),
-                nearest_door, r.reason.c_str());
+    std::printf(
+        "refused_memory %.0f s: %s after %.1f s at (%.2f, %.2f), %zu back-off(s), %zu place(s) blocked, "
+        "nearest the refused door %.2f m: %s\n",
+        refused_memory, toString(r.state), r.time, r.pose.x, r.pose.y, nav.backoffs(), nav.blockedPlaces(),
+        nearest_door, r.reason.c_str());
     EXPECT_GE(nav.backoffs(), 1u);
     EXPECT_GT(r.min_clearance, 0.0);
     EXPECT_GE(nearest_door, 0.44);
@@ -296,7 +297,8 @@ TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
 
 TEST(Navigator, BadParametersThrowNamingThem)
 {
-  const auto bad = [](void (*change)(NavigatorParams&)) {
+  const auto bad = [](void (*change)(NavigatorParams&))
+  {
     NavigatorParams p;
     change(p);
     try

@@ -218,7 +218,7 @@ private:
   Point backoff_look_;            // the refused point to look at afterwards
   double backoff_started_ = 0.0;  // start of the current phase
   std::size_t backoffs_ = 0;
-  std::string blocked_text_;      // the last blockAhead(), said in the reason for a while
+  std::string blocked_text_;  // the last blockAhead(), said in the reason for a while
   double blocked_time_ = -std::numeric_limits<double>::infinity();
   std::size_t blocked_places_ = 0;
   int look_step_ = -1;          // -1: not looking around; else the index of the heading turned to

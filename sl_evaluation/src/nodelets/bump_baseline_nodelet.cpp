@@ -3,6 +3,7 @@
 // loop. Reads the driver's odometry and hazards, sends cmd_vel at every odometry message (about
 // 66 Hz, well inside the driver's 0.25 s command watchdog) and calls reset_hazard when the driver's
 // latch outlives a contact.
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -134,9 +135,10 @@ private:
   }
 
   std::unique_ptr<BumpBaseline> policy_;
-  bool have_hazards_ = false;
-  bool bumper_ = false;
-  bool latched_ = false;
+  // Written by the hazards callback, read by the odometry one (the manager's threads may differ).
+  std::atomic<bool> have_hazards_{ false };
+  std::atomic<bool> bumper_{ false };
+  std::atomic<bool> latched_{ false };
   bool published_ = false;
   BumpBaseline::State last_state_ = BumpBaseline::State::FORWARD;
   ros::Publisher cmd_pub_, status_pub_;

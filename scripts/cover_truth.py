@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Coverage of a cover.test run against the scene's ground truth.
 
-    scripts/cover_truth.py test/scenes/cover_lounge.yaml $ROS_HOME/cover_cover_lounge_1_path.txt
+    scripts/cover_truth.py test/scenes/cover_lounge.yaml $ROS_HOME/cover_cover_lounge_1_path.txt [--minutes=10,20,30]
 
 Reads a scene of test/scenes (walls: vertical planes; obstacles: boxes and upright cylinders that
 reach below the robot's working height, 0.173 m) and the true path that cover_rostest writes
@@ -9,8 +9,8 @@ reach below the robot's working height, 0.173 m) and the true path that cover_ro
 at 0.05 m cells: the reachable floor is every free cell within the robot's radius of a centre cell
 (a free cell whose centre is at least 0.2425 m from every occupied cell's centre, 8-connected to the
 start); a cell is covered when the disc passed over its centre. Prints the covered share of the
-reachable floor at 1, 2, 5 and 10 minutes and the median uncovered band along the straight walls
-(probes every 0.05 m, 0.3 m from the corners, up to 0.6 m inward; probes that meet furniture first
+reachable floor at 1, 2, 5 and 10 minutes (or the --minutes given) and the median uncovered band
+along the straight walls (probes every 0.05 m, 0.3 m from the corners, up to 0.6 m inward; probes that meet furniture first
 are left out).
 """
 import math
@@ -146,8 +146,18 @@ def read_path(path):
 
 
 def main():
-    if len(sys.argv) != 3:
-        fail('usage: cover_truth.py SCENE.yaml PATH.txt')
+    minutes = MINUTES
+    if len(sys.argv) == 4:  # --minutes=10,15,20,30
+        if not sys.argv[3].startswith('--minutes='):
+            fail('usage: cover_truth.py SCENE.yaml PATH.txt [--minutes=M1,M2,...]')
+        try:
+            minutes = tuple(60.0 * float(m) for m in sys.argv[3][len('--minutes='):].split(','))
+        except ValueError:
+            fail('--minutes: a comma-separated list of minutes, got %r' % sys.argv[3])
+        if not minutes or any(not math.isfinite(m) or m <= 0.0 for m in minutes) or list(minutes) != sorted(minutes):
+            fail('--minutes: positive minutes in increasing order, got %r' % sys.argv[3])
+    elif len(sys.argv) != 3:
+        fail('usage: cover_truth.py SCENE.yaml PATH.txt [--minutes=M1,M2,...]')
     scene = Scene(sys.argv[1])
     poses = read_path(sys.argv[2])
     truth = Truth(scene, poses[0][1:3])
@@ -162,7 +172,7 @@ def main():
                 covered.add((ci + a, cj + b))
 
     for t, x, y, _ in poses:
-        while len(shares) < len(MINUTES) and t > MINUTES[len(shares)]:
+        while len(shares) < len(minutes) and t > minutes[len(shares)]:
             shares.append(len(covered & truth.floor) / len(truth.floor))
         steps = 1 if previous is None else int(math.hypot(x - previous[0], y - previous[1]) / (0.5 * RES)) + 1
         for s in range(1, steps + 1):  # every half cell: no gaps at speed
@@ -170,7 +180,7 @@ def main():
             mark(x if previous is None else previous[0] + (x - previous[0]) * f,
                  y if previous is None else previous[1] + (y - previous[1]) * f)
         previous = (x, y)
-    while len(shares) < len(MINUTES):
+    while len(shares) < len(minutes):
         shares.append(len(covered & truth.floor) / len(truth.floor))
 
     def band(x, y, nx, ny):
@@ -194,7 +204,7 @@ def main():
     print('%s: room %.2f m2, reachable floor %.2f m2; covered at %s min: %s %% (path of %.0f s); '
           'median uncovered band along the walls %.2f m (%d probes)' % (
               scene.name, (scene.x1 - scene.x0) * (scene.y1 - scene.y0), len(truth.floor) * RES * RES,
-              '/'.join('%g' % (m / 60) for m in MINUTES), ' / '.join('%.1f' % (100 * v) for v in shares),
+              '/'.join('%g' % (m / 60) for m in minutes), ' / '.join('%.1f' % (100 * v) for v in shares),
               poses[-1][0], bands[len(bands) // 2] if bands else float('nan'), len(bands)))
 
 

@@ -10,8 +10,8 @@ at 0.05 m cells: the reachable floor is every free cell within the robot's radiu
 (a free cell whose centre is at least 0.2425 m from every occupied cell's centre, 8-connected to the
 start); a cell is covered when the disc passed over its centre. Prints the covered share of the
 reachable floor at 1, 2, 5 and 10 minutes (or the --minutes given) and the median uncovered band
-along the straight walls (probes every 0.05 m, 0.3 m from the corners, up to 0.6 m inward; probes that meet furniture first
-are left out).
+along the straight walls (probes every 0.05 m, 0.3 m from the corners, up to 0.6 m inward; probes
+that meet furniture first are left out).
 """
 import math
 import sys

@@ -5,6 +5,10 @@
 #   make soak   DURATION (600) s of exploring the room scene: no collision, distance, area and the
 #               manager's resident memory printed, memory flat after the first minutes; a progress
 #               line every minute; the map of the run with the robot's path in SOAK_PNG (catkin_ws/soak_map.png)
+#   make soak-cover  COVER_DURATION (1800) s of cleaning (behaviour cover) in COVER_SCENE (cover_lounge),
+#               seed SEED (3): no collision in any direction, best coverage_progress at least
+#               COVER_MIN_PROGRESS (0.6; 30 min in the lounge gave 0.875), coverage_progress each minute,
+#               the true floor covered at 10 minute steps (scripts/cover_truth.py); the map in $ROS_HOME (/tmp)
 #   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
 #   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run
 # Catkin and the ROS tools need Debian's /usr/bin/python3, not a pyenv shim that may shadow it.
@@ -16,11 +20,14 @@ BUILD_TYPE ?= Release
 FUZZ_SECONDS ?= 30
 DURATION ?= 600
 SOAK_PNG ?= $(WS)/soak_map.png
+COVER_DURATION ?= 1800
+COVER_SCENE ?= cover_lounge
+COVER_MIN_PROGRESS ?= 0.6
 ROSENV := export PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1; unset PYTHONPATH PYTHONHOME; source $(WS)/devel/setup.bash
 CATKIN := PATH=/usr/bin:/bin:$$PATH PYTHONNOUSERSITE=1 catkin_make -C $(WS) -j$(JOBS) \
           -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
 
-.PHONY: all deps build sim test test-unit test-asan bench soak fuzz clean
+.PHONY: all deps build sim test test-unit test-asan bench soak soak-cover fuzz clean
 all: build
 
 deps:
@@ -52,6 +59,17 @@ soak: build
 	  grep -E 'explore |explore memory|explore progress|min clearance|FAIL|Failure|PASSED|passed|failed|SUMMARY|RESULT' $(WS)/soak.log; \
 	  if [ -f $(SOAK_PNG) ]; then echo "map of the run: $(SOAK_PNG)"; fi; echo "log: $(WS)/soak.log"; \
 	  ! grep -q '\[  FAILED  \]' $(WS)/soak.log && grep -q '\[  PASSED  \] 1 test' $(WS)/soak.log
+
+soak-cover: build
+	@$(ROSENV); catkin_make -C $(WS) cover_rostest > $(WS)/soak_build.log 2>&1 || { tail -n 30 $(WS)/soak_build.log; exit 1; }; \
+	  home=$${ROS_HOME:-/tmp}; seed=$(or $(SEED),3); mins=$$(seq -s, 10 10 $$(( ($(COVER_DURATION) + 599) / 600 * 10 ))); \
+	  rostest --text --pkgdir=$(WS)/src/sl_bringup --package=sl_bringup $(WS)/src/sl_bringup/test/cover.test \
+	  scene:=$(COVER_SCENE) seed:=$$seed duration:=$(COVER_DURATION) min_progress:=$(COVER_MIN_PROGRESS) > $(WS)/soak_cover.log 2>&1; \
+	  grep -E 'cover minute|cover: |min clearance|FAILED|PASSED' $(WS)/soak_cover.log; \
+	  /usr/bin/python3 $(ROOT)/scripts/cover_truth.py $(ROOT)/test/scenes/$(COVER_SCENE).yaml \
+	    $$home/cover_$(COVER_SCENE)_$${seed}_path.txt --minutes=$$mins; \
+	  echo "map: $$home/cover_$(COVER_SCENE)_$$seed.png; log: $(WS)/soak_cover.log"; \
+	  ! grep -q '\[  FAILED  \]' $(WS)/soak_cover.log && grep -q '\[  PASSED  \] 1 test' $(WS)/soak_cover.log
 
 bench: build
 	@$(ROSENV); $(ROOT)/scripts/run_benchmarks.sh $(WS)

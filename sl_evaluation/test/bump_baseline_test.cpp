@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sl_testing/errors.h>
 
 #include "sl_evaluation/bump_baseline.h"
 
@@ -41,19 +42,6 @@ struct Robot
   }
 };
 
-std::string refusal(const BumpBaselineConfig& c)
-{
-  try
-  {
-    c.validate();
-  }
-  catch (const std::invalid_argument& e)
-  {
-    return e.what();
-  }
-  return "";
-}
-
 /// The turn targets of the first @p n contacts of @p seed.
 std::vector<double> turns(unsigned seed, int n)
 {
@@ -76,26 +64,21 @@ std::vector<double> turns(unsigned seed, int n)
 
 TEST(BumpBaseline, RefusesBadSettingsNamingThem)
 {
-  EXPECT_EQ(refusal(BumpBaselineConfig()), "");
-  const auto with = [](auto set)
-  {
-    BumpBaselineConfig c;
-    set(c);
-    return refusal(c);
-  };
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.forward_speed = 0.0; }).rfind("forward_speed must be in (0, 0.5]", 0),
-            0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.forward_speed = NAN; }).rfind("forward_speed", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.back_speed = 0.6; }).rfind("back_speed", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.back_distance = -0.05; }).rfind("back_distance", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.max_back_distance = 0.01; }).rfind("max_back_distance", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.turn_speed = 5.0; }).rfind("turn_speed", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.min_turn = 0.0; }).rfind("min_turn", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.max_turn = 0.4; }).rfind("max_turn", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.max_turn = 3.2; }).rfind("max_turn", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.duration = -1.0; }).rfind("duration", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.duration = INFINITY; }).rfind("duration", 0), 0u);
-  EXPECT_EQ(with([](BumpBaselineConfig& c) { c.reset_interval = 0.0; }).rfind("reset_interval", 0), 0u);
+  EXPECT_EQ(sl_testing::validationError(BumpBaselineConfig()), "");
+  const auto refused = [](const std::string& name, void (*set)(BumpBaselineConfig&))
+  { return sl_testing::refusedNaming<BumpBaselineConfig>(name, set); };
+  EXPECT_TRUE(refused("forward_speed must be in (0, 0.5]", [](BumpBaselineConfig& c) { c.forward_speed = 0.0; }));
+  EXPECT_TRUE(refused("forward_speed", [](BumpBaselineConfig& c) { c.forward_speed = NAN; }));
+  EXPECT_TRUE(refused("back_speed", [](BumpBaselineConfig& c) { c.back_speed = 0.6; }));
+  EXPECT_TRUE(refused("back_distance", [](BumpBaselineConfig& c) { c.back_distance = -0.05; }));
+  EXPECT_TRUE(refused("max_back_distance", [](BumpBaselineConfig& c) { c.max_back_distance = 0.01; }));
+  EXPECT_TRUE(refused("turn_speed", [](BumpBaselineConfig& c) { c.turn_speed = 5.0; }));
+  EXPECT_TRUE(refused("min_turn", [](BumpBaselineConfig& c) { c.min_turn = 0.0; }));
+  EXPECT_TRUE(refused("max_turn", [](BumpBaselineConfig& c) { c.max_turn = 0.4; }));
+  EXPECT_TRUE(refused("max_turn", [](BumpBaselineConfig& c) { c.max_turn = 3.2; }));
+  EXPECT_TRUE(refused("duration", [](BumpBaselineConfig& c) { c.duration = -1.0; }));
+  EXPECT_TRUE(refused("duration", [](BumpBaselineConfig& c) { c.duration = INFINITY; }));
+  EXPECT_TRUE(refused("reset_interval", [](BumpBaselineConfig& c) { c.reset_interval = 0.0; }));
   BumpBaselineConfig bad;
   bad.turn_speed = -1.0;
   EXPECT_THROW(BumpBaseline{ bad }, std::invalid_argument);

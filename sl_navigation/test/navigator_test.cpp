@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sl_testing/errors.h>
 
 #include "sl_navigation/navigator.h"
 #include "test_world.h"
@@ -297,23 +298,12 @@ TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
 
 TEST(Navigator, BadParametersThrowNamingThem)
 {
-  const auto bad = [](void (*change)(NavigatorParams&))
-  {
-    NavigatorParams p;
-    change(p);
-    try
-    {
-      p.validate();
-    }
-    catch (const std::invalid_argument& e)
-    {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_EQ(bad([](NavigatorParams& p) { p.unseen_goal_distance = -0.1; }).rfind("unseen_goal_distance", 0), 0U);
-  EXPECT_EQ(bad([](NavigatorParams& p) { p.unseen_goal_time = std::nan(""); }).rfind("unseen_goal_time", 0), 0U);
-  EXPECT_EQ(bad([](NavigatorParams& p) { p.refuse_time = 61.0; }).rfind("refuse_time", 0), 0U);
+  using sl_testing::refusedNaming;
+  EXPECT_TRUE(refusedNaming<NavigatorParams>("unseen_goal_distance",
+                                             [](NavigatorParams& p) { p.unseen_goal_distance = -0.1; }));
+  EXPECT_TRUE(refusedNaming<NavigatorParams>("unseen_goal_time",
+                                             [](NavigatorParams& p) { p.unseen_goal_time = std::nan(""); }));
+  EXPECT_TRUE(refusedNaming<NavigatorParams>("refuse_time", [](NavigatorParams& p) { p.refuse_time = 61.0; }));
 }
 
 TEST(Navigator, AbortsAGoalBehindAClosedWallWithinTheBound)

@@ -20,7 +20,7 @@
 
 #include <sl_testing/wait.h>
 
-#include "sim_watch.h"  // privateParam, yawOf, stepBetween; runRostests
+#include "sim_watch.h"  // privateParam, stepBetween, PathFile; runRostests
 
 namespace sl_bringup_test
 {
@@ -43,9 +43,7 @@ protected:
     hazards_sub_.shutdown();
     status_sub_.shutdown();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (path_out_ != nullptr)
-      std::fclose(path_out_);
-    path_out_ = nullptr;
+    path_file_.close();
   }
 
   /// Counting and recording from now on (call with mutex_ held).
@@ -53,6 +51,7 @@ protected:
   {
     started_ = true;
     start_ = ros::Time::now();
+    path_file_.setOrigin(start_);
   }
 
   void onPose(const geometry_msgs::PoseStamped& msg)
@@ -67,13 +66,7 @@ protected:
     path_ += stepBetween(msg.pose, pose_);
     pose_ = msg.pose;
     ++poses_;
-    const ros::Time t = ros::Time::now();
-    if (path_out_ != nullptr && (last_written_.isZero() || (t - last_written_).toSec() >= 0.1))
-    {
-      last_written_ = t;
-      std::fprintf(path_out_, "%.2f %.4f %.4f %.4f\n", (t - start_).toSec(), msg.pose.position.x, msg.pose.position.y,
-                   yawOf(msg.pose));
-    }
+    path_file_.add(ros::Time::now(), msg.pose);
   }
   void onContact(const std_msgs::UInt8& msg)
   {
@@ -138,9 +131,9 @@ protected:
   ros::NodeHandle nh_;
   ros::Subscriber pose_sub_, contact_sub_, collision_sub_, hazards_sub_, status_sub_;
   std::mutex mutex_;
-  std::FILE* path_out_ = nullptr;
+  PathFile path_file_;  // ~path_file, or none
   bool started_ = false, stopped_ = false;
-  ros::Time start_, last_written_;
+  ros::Time start_;
   bool have_pose_ = false;
   geometry_msgs::Pose pose_;
   int poses_ = 0;
@@ -165,8 +158,7 @@ TEST_F(Baseline, DrivesAndRecords)
   if (!path_file.empty())
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    path_out_ = std::fopen(path_file.c_str(), "w");
-    ASSERT_NE(path_out_, nullptr) << "cannot write ~path_file " << path_file;
+    ASSERT_TRUE(path_file_.open(path_file)) << "cannot write ~path_file " << path_file;
   }
   ASSERT_TRUE(sl_testing::waitUntil(
       [&]

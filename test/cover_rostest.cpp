@@ -28,15 +28,7 @@ protected:
     {
       path_ += stepBetween(now, *previous);
     }
-    const ros::Time t = ros::Time::now();
-    if (path_out_ != nullptr && (last_written_.isZero() || (t - last_written_).toSec() >= 0.1))
-    {
-      if (first_pose_.isZero())
-        first_pose_ = t;
-      last_written_ = t;
-      std::fprintf(path_out_, "%.2f %.4f %.4f %.4f\n", (t - first_pose_).toSec(), now.position.x, now.position.y,
-                   yawOf(now));
-    }
+    path_file_.add(ros::Time::now(), now);
   }
   void onStatus(const sl_msgs::ObstacleStatus&) override {}
 
@@ -68,8 +60,7 @@ protected:
   }
 
   ros::NodeHandle node_;
-  std::FILE* path_out_ = nullptr;  // ~path_file, or none
-  ros::Time first_pose_, last_written_;
+  PathFile path_file_;  // ~path_file, or none
   double path_ = 0.0;
   double progress_ = 0.0;
   double best_progress_ = 0.0;
@@ -91,8 +82,7 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
   if (!path_file.empty())
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    path_out_ = std::fopen(path_file.c_str(), "w");
-    ASSERT_NE(path_out_, nullptr) << "cannot write ~path_file " << path_file;
+    ASSERT_TRUE(path_file_.open(path_file)) << "cannot write ~path_file " << path_file;
   }
   ros::Subscriber progress_sub = node_.subscribe<std_msgs::Float32>(
       "coverage_progress", 10, [this](const std_msgs::Float32::ConstPtr& m) { onProgress(*m); });
@@ -154,9 +144,7 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
   nav_sub.shutdown();
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (path_out_ != nullptr)
-      std::fclose(path_out_);
-    path_out_ = nullptr;
+    path_file_.close();
   }
   expectNoCollision();
 }

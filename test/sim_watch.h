@@ -59,6 +59,51 @@ inline double stepBetween(const geometry_msgs::Pose& a, const geometry_msgs::Pos
 }
 
 /**
+ * The true path as scripts/cover_truth.py reads it: "t x y yaw" per line (t in s since the origin,
+ * world frame), at most one line per 0.1 s. The origin is the first line's time unless set before.
+ * Not thread-safe: call under the caller's lock.
+ */
+class PathFile
+{
+public:
+  PathFile() = default;
+  PathFile(const PathFile&) = delete;
+  PathFile& operator=(const PathFile&) = delete;
+  ~PathFile() { close(); }
+
+  /// Opens (truncates) @p file. @return false when it cannot be written.
+  bool open(const std::string& file)
+  {
+    close();
+    out_ = std::fopen(file.c_str(), "w");
+    return out_ != nullptr;
+  }
+  /// Times of later lines count from @p origin.
+  void setOrigin(const ros::Time& origin) { origin_ = origin; }
+  /// Writes @p pose at @p now unless the last line is less than 0.1 s old (nothing when not open).
+  void add(const ros::Time& now, const geometry_msgs::Pose& pose)
+  {
+    if (out_ == nullptr || (!last_.isZero() && (now - last_).toSec() < 0.1))
+      return;
+    if (origin_.isZero())
+      origin_ = now;
+    last_ = now;
+    std::fprintf(out_, "%.2f %.4f %.4f %.4f\n", (now - origin_).toSec(), pose.position.x, pose.position.y, yawOf(pose));
+  }
+  /// Closes the file (flushing it); later add() calls write nothing.
+  void close()
+  {
+    if (out_ != nullptr)
+      std::fclose(out_);
+    out_ = nullptr;
+  }
+
+private:
+  std::FILE* out_ = nullptr;
+  ros::Time origin_, last_;
+};
+
+/**
  * Base fixture: subscribes the five topics, keeps the latest true pose, counts contact, collision
  * and hazard messages, ORs the contact bits, latches a bumper, and keeps the objects collided with
  * and the minimum clearance. Subclasses see every pose and decision in onPose() and onStatus(),

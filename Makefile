@@ -7,7 +7,8 @@
 #               line every minute; the map of the run with the robot's path in SOAK_PNG (catkin_ws/soak_map.png)
 #   make soak-cover  COVER_DURATION (1800) s of cleaning (behaviour cover) in COVER_SCENE (cover_lounge),
 #               seed SEED (3): no collision in any direction, best coverage_progress at least
-#               COVER_MIN_PROGRESS (0.6; 30 min in the lounge gave 0.875), coverage_progress each minute,
+#               COVER_MIN_PROGRESS (0.6; 30 min in the lounge gave 0.875), the manager's resident memory
+#               flat after the first minutes (sampled every minute), coverage_progress each minute,
 #               the true floor covered at 10 minute steps (scripts/cover_truth.py); the map in $ROS_HOME (/tmp)
 #   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
 #   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run
@@ -64,8 +65,9 @@ soak-cover: build
 	@$(ROSENV); catkin_make -C $(WS) cover_rostest > $(WS)/soak_build.log 2>&1 || { tail -n 30 $(WS)/soak_build.log; exit 1; }; \
 	  home=$${ROS_HOME:-/tmp}; seed=$(or $(SEED),3); mins=$$(seq -s, 10 10 $$(( ($(COVER_DURATION) + 599) / 600 * 10 ))); \
 	  rostest --text --pkgdir=$(WS)/src/sl_bringup --package=sl_bringup $(WS)/src/sl_bringup/test/cover.test \
-	  scene:=$(COVER_SCENE) seed:=$$seed duration:=$(COVER_DURATION) min_progress:=$(COVER_MIN_PROGRESS) > $(WS)/soak_cover.log 2>&1; \
-	  grep -E 'cover minute|cover: |min clearance|FAILED|PASSED' $(WS)/soak_cover.log; \
+	  scene:=$(COVER_SCENE) seed:=$$seed duration:=$(COVER_DURATION) min_progress:=$(COVER_MIN_PROGRESS) \
+	  memory_node:=/sl_manager > $(WS)/soak_cover.log 2>&1; \
+	  grep -E 'cover minute|cover: |cover memory|min clearance|FAILED|PASSED' $(WS)/soak_cover.log; \
 	  /usr/bin/python3 $(ROOT)/scripts/cover_truth.py $(ROOT)/test/scenes/$(COVER_SCENE).yaml \
 	    $$home/cover_$(COVER_SCENE)_$${seed}_path.txt --minutes=$$mins; \
 	  echo "map: $$home/cover_$(COVER_SCENE)_$$seed.png; log: $(WS)/soak_cover.log"; \

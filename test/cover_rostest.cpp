@@ -6,6 +6,9 @@
 // 20 s, a line per minute (progress, colliding messages, nearest approach) and, at the end, the
 // progress at each whole minute. With ~path_file set, the true pose goes there every 0.1 s
 // ("t x y yaw" per line, s since the first pose, world frame) for measuring against the scene.
+// With ~memory_node set (the soak), that node's process's resident memory is sampled every
+// ~memory_period s and must grow by at most ~memory_growth MB after the first ~memory_settle samples.
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -15,6 +18,7 @@
 
 #include <sl_testing/wait.h>
 
+#include "node_process.h"
 #include "sim_watch.h"
 
 namespace sl_bringup_test
@@ -98,7 +102,12 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
       },
       60.0))
       << "no navigation_status or no true_pose";
+  MemorySampler memory;
+  const std::string memory_node = ros::param::param<std::string>("~memory_node", "");
+  ASSERT_TRUE(memory.start(memory_node, privateParam("memory_period", 60.0)))
+      << "no pid for ~memory_node " << memory_node;
   const ros::Time start = ros::Time::now();
+  memory.sample(0.0);
   std::string per_minute;  // the progress at each whole minute
   for (int step = 1; step * 20.0 <= duration + 1e-9; ++step)
   {
@@ -109,6 +118,9 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
           return done_;
         },
         20.0);
+    if (memory.sample((ros::Time::now() - start).toSec()))
+      std::printf("cover memory: %s resident %.1f MB after %.0f s\n", memory_node.c_str(), memory.samples().back(),
+                  (ros::Time::now() - start).toSec());
     std::lock_guard<std::mutex> lock(mutex_);
     std::printf("cover %5.1f s: coverage_progress %.3f, %d cells covered, true path %.2f m, min clearance %.3f m: %s\n",
                 (ros::Time::now() - start).toSec(), progress_, covered_cells_, path_, min_clearance_, reason_.c_str());
@@ -138,6 +150,16 @@ TEST_F(Cover, CoversTheRoomWithoutTouching)
     EXPECT_GT(covered_cells_, 0) << "the coverage grid shows nothing covered";
     EXPECT_EQ(contact_bits_, 0) << "bumper contact in the simulator";
     EXPECT_FALSE(bumped_) << "the driver reported a bump";
+  }
+  // Flat memory after the warm-up (the soak).
+  const std::size_t settle = static_cast<std::size_t>(privateParam("memory_settle", 3.0));
+  const double growth = memory.growth(settle);
+  if (!std::isnan(growth))
+  {
+    std::printf("cover memory: %s grew %.1f MB from sample %zu to the last of %zu\n", memory_node.c_str(), growth,
+                settle, memory.samples().size());
+    EXPECT_LE(growth, privateParam("memory_growth", 3.0))
+        << memory_node << " grew from " << memory.samples()[settle] << " MB to " << memory.samples().back() << " MB";
   }
   progress_sub.shutdown();
   grid_sub.shutdown();

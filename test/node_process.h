@@ -1,9 +1,12 @@
 // What the system tests ask about the processes that hold ROS nodes: a node's pid (its getPid on
-// the master's lookupNode) and a process's resident memory (/proc/<pid>/status).
+// the master's lookupNode), a process's resident memory (/proc/<pid>/status) and its samples over a
+// soak (MemorySampler).
 #pragma once
 
+#include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <ros/master.h>
 #include <ros/network.h>
@@ -52,4 +55,46 @@ inline double residentMegabytes(int pid)
   }
   return -1.0;
 }
+
+/// Resident memory of the process holding one node, sampled every period of a long run (the soaks).
+class MemorySampler
+{
+public:
+  /// Samples the process of @p node every @p period s from elapsed time 0 (an empty @p node: never).
+  /// @return false when @p node is given but its pid cannot be found.
+  bool start(const std::string& node, double period)
+  {
+    node_ = node;
+    period_ = period;
+    samples_.clear();
+    pid_ = node.empty() ? -1 : nodePid(node);
+    return node.empty() || pid_ > 0;
+  }
+  /// Takes a sample when one is due at @p elapsed s. @return true when it took one.
+  bool sample(double elapsed)
+  {
+    if (pid_ <= 0 || elapsed < period_ * samples_.size())
+      return false;
+    samples_.push_back(residentMegabytes(pid_));
+    return true;
+  }
+  /// The samples so far (MB; -1 where /proc could not be read).
+  const std::vector<double>& samples() const { return samples_; }
+  /// The node sampled (empty: none).
+  const std::string& node() const { return node_; }
+  /// Growth (MB) from sample @p settle (after the warm-up) to the last one; NaN with fewer than
+  /// settle + 2 samples.
+  double growth(std::size_t settle) const
+  {
+    if (samples_.size() < settle + 2)
+      return std::nan("");
+    return samples_.back() - samples_[settle];
+  }
+
+private:
+  std::string node_;
+  double period_ = 60.0;
+  int pid_ = -1;
+  std::vector<double> samples_;
+};
 }  // namespace sl_bringup_test

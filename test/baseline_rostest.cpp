@@ -9,39 +9,35 @@
 // happen (no pose, no collision signal, no status, no movement).
 #include <algorithm>
 #include <cstdio>
-#include <set>
 #include <string>
 
-#include <geometry_msgs/PoseStamped.h>
-#include <sl_msgs/Collision.h>
-#include <sl_msgs/Hazards.h>
 #include <std_msgs/String.h>
-#include <std_msgs/UInt8.h>
 
 #include <sl_testing/wait.h>
 
-#include "sim_watch.h"  // privateParam, stepBetween, PathFile; runRostests
+#include "sim_watch.h"  // SimWatch, privateParam, stepBetween, PathFile; runRostests
 
 namespace sl_bringup_test
 {
-class Baseline : public ::testing::Test
+/// SimWatch in Collisions::kCount mode, counting (counting_) from the baseline's first status
+/// (start()) to the end of `duration`; plus the true path and the baseline's own status.
+class Baseline : public SimWatch
 {
 protected:
+  Baseline() : SimWatch(Collisions::kCount)
+  {
+    counting_ = false;  // from start() on
+  }
+
   void SetUp() override
   {
-    pose_sub_ = nh_.subscribe("true_pose", 100, &Baseline::onPose, this);
-    contact_sub_ = nh_.subscribe("contact", 50, &Baseline::onContact, this);
-    collision_sub_ = nh_.subscribe("collision", 100, &Baseline::onCollision, this);
-    hazards_sub_ = nh_.subscribe("hazards", 50, &Baseline::onHazards, this);
-    status_sub_ = nh_.subscribe("bump_baseline/status", 50, &Baseline::onStatus, this);
+    SimWatch::SetUp();
+    baseline_sub_ = nh_.subscribe("bump_baseline/status", 50, &Baseline::onBaselineStatus, this);
   }
   void TearDown() override
   {
-    pose_sub_.shutdown();
-    contact_sub_.shutdown();
-    collision_sub_.shutdown();
-    hazards_sub_.shutdown();
-    status_sub_.shutdown();
+    baseline_sub_.shutdown();
+    SimWatch::TearDown();
     std::lock_guard<std::mutex> lock(mutex_);
     path_file_.close();
   }
@@ -50,62 +46,29 @@ protected:
   void start()
   {
     started_ = true;
+    counting_ = true;
     start_ = ros::Time::now();
     path_file_.setOrigin(start_);
   }
 
-  void onPose(const geometry_msgs::PoseStamped& msg)
+  void onPose(const geometry_msgs::Pose* previous, const geometry_msgs::Pose& now) override
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!started_ || stopped_)
-    {
-      pose_ = msg.pose;
-      have_pose_ = true;
+    if (!counting_)
       return;
-    }
-    path_ += stepBetween(msg.pose, pose_);
-    pose_ = msg.pose;
+    if (previous != nullptr)
+      path_ += stepBetween(now, *previous);
     ++poses_;
-    path_file_.add(ros::Time::now(), msg.pose);
+    path_file_.add(ros::Time::now(), now);
   }
-  void onContact(const std_msgs::UInt8& msg)
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const bool now = msg.data != 0;
-    if (started_ && !stopped_ && now && !contact_)
-      ++contact_onsets_;
-    contact_ = now;
-  }
-  void onCollision(const sl_msgs::Collision& msg)
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (started_ && !stopped_)
-    {
-      ++collision_messages_;
-      if (msg.colliding)
-      {
-        ++colliding_messages_;
-        collision_onsets_ += colliding_ ? 0 : 1;
-        collided_with_.insert(msg.objects.begin(), msg.objects.end());
-        deepest_ = std::min(deepest_, static_cast<double>(msg.min_clearance));
-      }
-    }
-    colliding_ = msg.colliding;
-  }
-  void onHazards(const sl_msgs::Hazards& msg)
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const bool now = msg.bump_left || msg.bump_right;
-    if (started_ && !stopped_ && now && !bumper_)
-      ++bumper_onsets_;
-    bumper_ = now;
-  }
-  void onStatus(const std_msgs::String& msg)
+  /// The baseline has no obstacle node.
+  void onStatus(const sl_msgs::ObstacleStatus&) override {}
+
+  void onBaselineStatus(const std_msgs::String& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!started_)
       start();
-    if (!stopped_)
+    if (counting_)
     {
       status_ = msg.data;
       std::sscanf(msg.data.c_str(), "%*s bumps %d resets %d", &baseline_bumps_, &baseline_resets_);
@@ -122,27 +85,19 @@ protected:
     std::snprintf(text, sizeof(text),
                   "true path %.2f m; bumper contacts %d (driver hazards; sim contact onsets %d, baseline bumps %d, "
                   "reset_hazard calls %d); collision messages %d, colliding %d in %d episodes, deepest %.3f m (%s)",
-                  path_, bumper_onsets_, contact_onsets_, baseline_bumps_, baseline_resets_, collision_messages_,
-                  colliding_messages_, collision_onsets_, colliding_messages_ > 0 ? -deepest_ : 0.0,
+                  path_, bump_onsets_, contact_onsets_, baseline_bumps_, baseline_resets_, collision_messages_,
+                  colliding_messages_, collision_onsets_, colliding_messages_ > 0 ? -min_clearance_ : 0.0,
                   objects.empty() ? "-" : objects.c_str());
     return text;
   }
 
   ros::NodeHandle nh_;
-  ros::Subscriber pose_sub_, contact_sub_, collision_sub_, hazards_sub_, status_sub_;
-  std::mutex mutex_;
+  ros::Subscriber baseline_sub_;
   PathFile path_file_;  // ~path_file, or none
-  bool started_ = false, stopped_ = false;
+  bool started_ = false;
   ros::Time start_;
-  bool have_pose_ = false;
-  geometry_msgs::Pose pose_;
   int poses_ = 0;
   double path_ = 0.0;
-  bool contact_ = false, bumper_ = false, colliding_ = false;
-  int contact_onsets_ = 0, bumper_onsets_ = 0;
-  int collision_messages_ = 0, colliding_messages_ = 0, collision_onsets_ = 0;
-  double deepest_ = 0.0;  // most negative min_clearance of a colliding message, m
-  std::set<std::string> collided_with_;
   std::string status_;
   int baseline_bumps_ = 0, baseline_resets_ = 0;
 };
@@ -181,7 +136,7 @@ TEST_F(Baseline, DrivesAndRecords)
         until + 60.0, 0.05);
     std::lock_guard<std::mutex> lock(mutex_);
     if (until >= duration)
-      stopped_ = true;  // the counts and the path end here
+      counting_ = false;  // the counts and the path end here
     std::printf("baseline %5.1f s: %s; %s\n", (ros::Time::now() - start_).toSec(), figures().c_str(), status_.c_str());
     std::fflush(stdout);
     if (until >= duration)

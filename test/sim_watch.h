@@ -1,8 +1,8 @@
-// What the closed-loop system tests (closed_loop, room, explore, filter) watch while the simulation
-// runs. Ground truth comes from the simulators, not from the system under test: create_sim's true
-// pose (true_pose), the camera simulator's bumper contact (contact) and its ground-truth collision of
-// the robot's disc with the scene in any direction (collision), plus the driver's hazards and the
-// obstacle node's decisions (obstacle_status).
+// What the closed-loop system tests (closed_loop, room, explore, filter, ...) and the bump-and-turn
+// baseline watch while the simulation runs. Ground truth comes from the simulators, not from the
+// system under test: create_sim's true pose (true_pose), the camera simulator's bumper contact
+// (contact) and its ground-truth collision of the robot's disc with the scene in any direction
+// (collision), plus the driver's hazards and the obstacle node's decisions (obstacle_status).
 #pragma once
 
 #include <cmath>
@@ -105,16 +105,27 @@ private:
 
 /**
  * Base fixture: subscribes the five topics, keeps the latest true pose, counts contact, collision
- * and hazard messages, ORs the contact bits, latches a bumper, and keeps the objects collided with
- * and the minimum clearance. Subclasses see every pose and decision in onPose() and onStatus(),
- * which run with mutex_ held, as must every read of the members. Every test ends with
- * expectNoCollision() (TearDown() runs it for a test that stopped before). A failed test also
- * reports the last changes of the decision (state, reason, command and text, kTrailLength of them),
- * so that a CI log alone tells what the robot was doing.
+ * and hazard messages and their onsets, ORs the contact bits, latches a bumper, and keeps the objects
+ * collided with and the minimum clearance. Subclasses see every pose and decision in onPose() and
+ * onStatus(), which run with mutex_ held, as must every read of the members. In the default mode
+ * (Collisions::kFail) every test ends with expectNoCollision() (TearDown() runs it for a test that
+ * stopped before); in Collisions::kCount, for a robot that collides by design (the bump-and-turn
+ * baseline), collisions are only counted. A failed test also reports the last changes of the
+ * decision (state, reason, command and text, kTrailLength of them), so that a CI log alone tells
+ * what the robot was doing.
  */
 class SimWatch : public ::testing::Test
 {
 protected:
+  /// What a collision does to the test.
+  enum class Collisions
+  {
+    kFail,   ///< fails it: expectNoCollision() ends every test
+    kCount,  ///< nothing: it is only counted (no expectNoCollision() in TearDown(), no error log)
+  };
+
+  explicit SimWatch(Collisions collisions = Collisions::kFail) : collisions_(collisions) {}
+
   void SetUp() override
   {
     pose_sub_ = nh_.subscribe("true_pose", 100, &SimWatch::poseCallback, this);
@@ -126,16 +137,20 @@ protected:
 
   void TearDown() override
   {
-    if (!collision_checked_)
+    if (!collision_checked_ && collisions_ == Collisions::kFail)
       expectNoCollision();
     if (HasFailure())
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      std::string text;
-      for (const std::string& line : trail_)
-        text += "\n  " + line;
-      ADD_FAILURE() << "the last " << trail_.size() << " changes of decision (s since the first; state/reason "
-                    << "codes of ObstacleStatus, command, distance):" << text;
+      // A counting fixture may watch a system without an obstacle node (the baseline): no trail then.
+      if (collisions_ == Collisions::kFail || !trail_.empty())
+      {
+        std::string text;
+        for (const std::string& line : trail_)
+          text += "\n  " + line;
+        ADD_FAILURE() << "the last " << trail_.size() << " changes of decision (s since the first; state/reason "
+                      << "codes of ObstacleStatus, command, distance):" << text;
+      }
     }
     // No callback may run on the fixture once it is being destroyed.
     pose_sub_.shutdown();
@@ -196,13 +211,21 @@ protected:
   int status_messages_ = 0;
   bool have_pose_ = false;
   geometry_msgs::Pose pose_;
+  // Contact, collision and hazard messages count (in the members below) only while counting_: always,
+  // unless a subclass watches a window of the run (the baseline: from its first command). An onset is
+  // a message with contact, a bump or a collision after one without (which may precede the window).
+  bool counting_ = true;
   int contact_messages_ = 0;
   int contact_bits_ = 0;  // OR of every contact message
+  int contact_onsets_ = 0;
   int hazard_messages_ = 0;
   bool bumped_ = false;
+  int bump_onsets_ = 0;  // of bump_left or bump_right
   int collision_messages_ = 0;
   int colliding_messages_ = 0;           // messages with colliding = true
+  int collision_onsets_ = 0;             // episodes of them
   std::set<std::string> collided_with_;  // the objects they named
+  // <= 0 from a colliding message on (Collision.msg): then -min_clearance_ is the deepest overlap.
   double min_clearance_ = std::numeric_limits<double>::infinity();
   std::string nearest_object_;              // of min_clearance_
   geometry_msgs::Pose min_clearance_pose_;  // the true pose when it came
@@ -220,8 +243,13 @@ private:
   void contactCallback(const std_msgs::UInt8& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    const bool onset = msg.data != 0 && !in_contact_;
+    in_contact_ = msg.data != 0;
+    if (!counting_)
+      return;
     ++contact_messages_;
-    if (msg.data != 0 && contact_bits_ == 0)
+    contact_onsets_ += onset ? 1 : 0;
+    if (msg.data != 0 && contact_bits_ == 0 && collisions_ == Collisions::kFail)
       ROS_ERROR("contact %d at (%.3f, %.3f)", msg.data, pose_.position.x, pose_.position.y);
     contact_bits_ |= msg.data;
   }
@@ -229,15 +257,20 @@ private:
   void collisionCallback(const sl_msgs::Collision& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    ++collision_messages_;
     last_collision_time_ = ros::Time::now();
+    const bool onset = msg.colliding && !colliding_;
+    colliding_ = msg.colliding;
+    if (!counting_)
+      return;
+    ++collision_messages_;
     if (msg.colliding)
     {
-      if (colliding_messages_ == 0)
+      if (colliding_messages_ == 0 && collisions_ == Collisions::kFail)
         ROS_ERROR("collision with %s (clearance %.4f m) at (%.3f, %.3f)",
                   msg.objects.empty() ? "?" : msg.objects.front().c_str(), msg.min_clearance, pose_.position.x,
                   pose_.position.y);
       ++colliding_messages_;
+      collision_onsets_ += onset ? 1 : 0;
       collided_with_.insert(msg.objects.begin(), msg.objects.end());
     }
     if (msg.min_clearance < min_clearance_)
@@ -251,8 +284,14 @@ private:
   void hazardsCallback(const sl_msgs::Hazards& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    const bool bump = msg.bump_left || msg.bump_right;
+    const bool onset = bump && !bumping_;
+    bumping_ = bump;
+    if (!counting_)
+      return;
     ++hazard_messages_;
-    bumped_ = bumped_ || msg.bump_left || msg.bump_right;
+    bump_onsets_ += onset ? 1 : 0;
+    bumped_ = bumped_ || bump;
   }
 
   void statusCallback(const sl_msgs::ObstacleStatus& msg)
@@ -290,8 +329,10 @@ private:
 
   ros::NodeHandle nh_;
   ros::Subscriber pose_sub_, contact_sub_, collision_sub_, hazards_sub_, status_sub_;
+  const Collisions collisions_;
   bool collision_checked_ = false;
   ros::Time last_pose_time_, last_collision_time_;
+  bool in_contact_ = false, bumping_ = false, colliding_ = false;  // the last message's, for the onsets
 };
 
 }  // namespace sl_bringup_test

@@ -8,7 +8,7 @@
 #   make soak-cover  COVER_DURATION (1800) s of cleaning (behaviour cover) in COVER_SCENE (cover_lounge),
 #               seed SEED (3): no collision in any direction, best coverage_progress at least
 #               COVER_MIN_PROGRESS (0.6; 30 min in the lounge gave 0.875), the manager's resident memory
-#               flat after the first minutes (sampled every minute), coverage_progress each minute,
+#               flat over the second half of the run (sampled every minute), coverage_progress each minute,
 #               the true floor covered at 10 minute steps (scripts/cover_truth.py); the map in $ROS_HOME (/tmp)
 #   make fuzz   build the libFuzzer targets (fuzz/) and run each FUZZ_SECONDS (30) s; fails on a finding
 #   make test-asan  every gtest built with AddressSanitizer + UndefinedBehaviorSanitizer and run

@@ -23,21 +23,26 @@ void setPrefix(local_threshold::RowInput& row, const uint16_t* pre)
   row.pre16 = pre;
 }
 
-/// The largest of the weights w[x0, x1) and 0 (w readable up to x1 + 3). The maximum is exact in
-/// any order: 4 at a time gives the same peak as one at a time.
+/// The largest of the weights w[x0, x1) and 0 (w readable up to x1 + 7). The weights of a run are
+/// positive, so their maximum is exact in any order: 8 at a time gives the same peak as one at a time.
 inline float peakOf(const float* w, int x0, int x1)
 {
 #if defined(__SSE2__)
-  __m128 m = _mm_setzero_ps();
+  // Two accumulators, and the last 0-7 weights masked without a branch: runs of a near frame are long.
+  __m128 m0 = _mm_setzero_ps(), m1 = _mm_setzero_ps();
   int x = x0;
-  for (; x + 4 <= x1; x += 4)
-    m = _mm_max_ps(m, _mm_loadu_ps(w + x));
-  if (x < x1)  // the last 1-3 pixels: lanes past the run count as 0
+  for (; x + 8 <= x1; x += 8)
   {
-    const __m128i lane = _mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3));
-    const __m128 inside = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(x1)));
-    m = _mm_max_ps(m, _mm_and_ps(_mm_loadu_ps(w + x), inside));
+    m0 = _mm_max_ps(m0, _mm_loadu_ps(w + x));
+    m1 = _mm_max_ps(m1, _mm_loadu_ps(w + x + 4));
   }
+  const __m128i lane = _mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3));
+  const __m128i end = _mm_set1_epi32(x1);
+  const __m128 inside0 = _mm_castsi128_ps(_mm_cmplt_epi32(lane, end));
+  const __m128 inside1 = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_add_epi32(lane, _mm_set1_epi32(4)), end));
+  m0 = _mm_max_ps(m0, _mm_and_ps(_mm_loadu_ps(w + x), inside0));
+  m1 = _mm_max_ps(m1, _mm_and_ps(_mm_loadu_ps(w + x + 4), inside1));
+  __m128 m = _mm_max_ps(m0, m1);
   m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
   m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
   return _mm_cvtss_f32(m);
@@ -47,6 +52,48 @@ inline float peakOf(const float* w, int x0, int x1)
     peak = std::max(peak, w[x]);
   return peak;
 #endif
+}
+
+/// Lowers @p lo and raises @p hi to the darkest and brightest pixel of @p box (not empty) in @p image.
+void boxMinMax(const cv::Mat& image, const Blob& box, int& lo, int& hi)
+{
+  const int w = box.width();
+#if defined(__SSE2__)
+  if (w >= 16)
+  {
+    // 16 at a time, a row's last 16 overlapping the ones before: the same extremes.
+    __m128i mn = _mm_set1_epi8(static_cast<char>(0xff)), mx = _mm_setzero_si128();
+    for (int y = box.y0; y < box.y1; ++y)
+    {
+      const uint8_t* row = image.ptr<uint8_t>(y) + box.x0;
+      for (int x = 0;; x += 16)
+      {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + std::min(x, w - 16)));
+        mn = _mm_min_epu8(mn, v);
+        mx = _mm_max_epu8(mx, v);
+        if (x + 16 >= w)
+          break;
+      }
+    }
+    for (int bytes = 8; bytes > 0; bytes /= 2)
+    {
+      mn = _mm_min_epu8(mn, _mm_srli_si128(mn, bytes));
+      mx = _mm_max_epu8(mx, _mm_srli_si128(mx, bytes));
+    }
+    lo = std::min(lo, _mm_cvtsi128_si32(mn) & 0xff);
+    hi = std::max(hi, _mm_cvtsi128_si32(mx) & 0xff);
+    return;
+  }
+#endif
+  for (int y = box.y0; y < box.y1; ++y)
+  {
+    const uint8_t* row = image.ptr<uint8_t>(y) + box.x0;
+    for (int x = 0; x < w; ++x)
+    {
+      lo = std::min(lo, static_cast<int>(row[x]));
+      hi = std::max(hi, static_cast<int>(row[x]));
+    }
+  }
 }
 }  // namespace
 
@@ -134,7 +181,7 @@ void BlobDetector::thresholdAndLink(const cv::Mat& image, std::vector<T>& col_su
   prefix.resize(kRowBlock * (ws + 1));
   zero_row_.assign(ws, 0);
   bits_.resize(static_cast<size_t>((w + 63) >> 6) + 1);
-  weight_.resize(ws + 4);  // peakOf() reads 4 at a time
+  weight_.resize(ws + 8);  // peakOf() reads 8 at a time
   // The rows above the first window's centre.
   for (int y = 0; y < std::min(h, r); ++y)
   {
@@ -294,7 +341,7 @@ void BlobDetector::detectBoxes(const cv::Mat& image, std::vector<Blob>& blobs)
                        b.area > config_.max_area || static_cast<double>(b.width()) > config_.max_aspect * b.height()))
     {
       oversized_component_.push_back(static_cast<int32_t>(i));
-      oversized_.push_back(Region{ b, 0, 0 });
+      oversized_.push_back(Region{ b, 0, 0, b.area });
     }
   }
   collectSpans();
@@ -452,7 +499,7 @@ void BlobDetector::collectSpans()
     if (k < 0)
       continue;
     const Run& run = runs_[static_cast<size_t>(i)];
-    spans_[static_cast<size_t>(oversized_[static_cast<size_t>(k)].end++)] = Span{ run.y, run.x0, run.x1 };
+    spans_[static_cast<size_t>(oversized_[static_cast<size_t>(k)].end++)] = Span(run.y, run.x0, run.x1);
   }
 }
 
@@ -466,21 +513,14 @@ void BlobDetector::appendSpans(std::vector<Region>& regions)
     r.begin = next;
     next += r.end;
     r.end = r.begin;
+    r.span_area = r.box.area;
   }
   spans_.resize(static_cast<size_t>(next));
-  if (regions.size() == 1)  // one part (most regions at the lower levels): all runs, in order
-  {
-    Span* out = spans_.data() + regions[0].begin;
-    for (const Run& run : runs_)
-      *out++ = Span{ run.y, run.x0, run.x1 };
-    regions[0].end = next;
-    return;
-  }
   for (size_t i = 0; i < runs_.size(); ++i)
   {
     const Run& run = runs_[i];
     const int32_t r = part_of_label_[static_cast<size_t>(run.parent)];
-    spans_[static_cast<size_t>(regions[static_cast<size_t>(r)].end++)] = Span{ run.y, run.x0, run.x1 };
+    spans_[static_cast<size_t>(regions[static_cast<size_t>(r)].end++)] = Span(run.y, run.x0, run.x1);
   }
 }
 
@@ -497,9 +537,8 @@ void BlobDetector::splitOversized(const cv::Mat& image, const Region& component,
   // Fractions of the component's grey range, from just above the local threshold to near its peak.
   static constexpr float kLevels[kLastLevel] = { 0.5f, 0.65f, 0.78f, 0.88f, 0.95f };
   const Blob& box = component.box;
-  double lo_value = 0.0, hi_value = 0.0;  // the box's darkest and brightest pixel
-  cv::minMaxIdx(image(cv::Rect(box.x0, box.y0, box.width(), box.height())), &lo_value, &hi_value);
-  const int lo = static_cast<int>(lo_value), hi = static_cast<int>(hi_value);
+  int lo = 255, hi = 0;  // the box's darkest and brightest pixel
+  boxMinMax(image, box, lo, hi);
   pending_.clear();
   pending_.push_back(component);
   pending_.back().box.level = 0;
@@ -648,14 +687,19 @@ void BlobDetector::cellsOfBand(const cv::Mat& image, const Blob& band, int t, st
   formWaveTable(omega, image.cols);
   phase_re_.resize(static_cast<size_t>(n) + 1);
   phase_im_.resize(static_cast<size_t>(n) + 1);
+  // The running sums stay in registers: a sum read back from the store it was just written to
+  // waited for it, column after column.
+  double re = 0.0, im = 0.0;
   phase_re_[0] = phase_im_[0] = 0.0;
   for (int i = 0; i < n; ++i)
   {
     const float h = bottom_[static_cast<size_t>(i)] - top_[static_cast<size_t>(i)];
     const bool finite = std::isfinite(h);
     const size_t x = static_cast<size_t>(band.x0 + i);
-    phase_re_[static_cast<size_t>(i) + 1] = phase_re_[static_cast<size_t>(i)] + (finite ? h * cos_[x] : 0.0);
-    phase_im_[static_cast<size_t>(i) + 1] = phase_im_[static_cast<size_t>(i)] + (finite ? h * sin_[x] : 0.0);
+    re += finite ? h * cos_[x] : 0.0;
+    im += finite ? h * sin_[x] : 0.0;
+    phase_re_[static_cast<size_t>(i) + 1] = re;
+    phase_im_[static_cast<size_t>(i) + 1] = im;
   }
   auto centreNear = [&](double x)
   {
@@ -735,6 +779,63 @@ void BlobDetector::formWaveTable(double omega, int cols)
 
 namespace
 {
+#if defined(__SSE2__)
+/// weighAbove()'s sums 16 pixels at a time: integer lanes, so exactly the sums of one at a time.
+struct WeighSimd
+{
+  explicit WeighSimd(int threshold) : t(_mm_set1_epi8(static_cast<char>(threshold))) {}
+
+  /// Adds the weights max(0, row[x] - threshold) of [x0, x1) to @p sum, times x to @p sum_x; the
+  /// largest byte-wise to @p peaks (row readable up to x1 + 15). Returns x1.
+  int weigh(const uint8_t* row, int x0, int x1, int64_t& sum, int64_t& sum_x, __m128i& peaks) const
+  {
+    const __m128i zero = _mm_setzero_si128();
+    __m128i w_sums = zero, w_at = zero;  // per 8 lanes: sum of weights, times the chunk's first x
+    __m128i w_lane = zero;               // sums of weight times its lane (0..15)
+    for (int x = x0; x < x1; x += 16)
+    {
+      // Saturating subtraction is max(0, value - threshold); lanes past x1 count as 0.
+      const __m128i inside = _mm_cmpgt_epi8(_mm_set1_epi8(static_cast<char>(std::min(x1 - x, 16))), lanes);
+      const __m128i w =
+          _mm_and_si128(_mm_subs_epu8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x)), t), inside);
+      peaks = _mm_max_epu8(peaks, w);
+      const __m128i chunk = _mm_sad_epu8(w, zero);
+      w_sums = _mm_add_epi64(w_sums, chunk);
+      w_at = _mm_add_epi64(w_at, _mm_mul_epu32(chunk, _mm_set1_epi32(x)));
+      w_lane = _mm_add_epi32(w_lane, _mm_madd_epi16(_mm_unpacklo_epi8(w, zero), lanes_lo));
+      w_lane = _mm_add_epi32(w_lane, _mm_madd_epi16(_mm_unpackhi_epi8(w, zero), lanes_hi));
+    }
+    w_lane = _mm_add_epi32(w_lane, _mm_shuffle_epi32(w_lane, _MM_SHUFFLE(1, 0, 3, 2)));
+    w_lane = _mm_add_epi32(w_lane, _mm_shuffle_epi32(w_lane, _MM_SHUFFLE(2, 3, 0, 1)));
+    sum += low64(w_sums) + low64(_mm_unpackhi_epi64(w_sums, w_sums));
+    sum_x += low64(w_at) + low64(_mm_unpackhi_epi64(w_at, w_at)) + _mm_cvtsi128_si32(w_lane);
+    return x1;
+  }
+
+  /// The largest of the 16 bytes of @p peaks.
+  static int largest(__m128i peaks)
+  {
+    peaks = _mm_max_epu8(peaks, _mm_srli_si128(peaks, 8));
+    peaks = _mm_max_epu8(peaks, _mm_srli_si128(peaks, 4));
+    peaks = _mm_max_epu8(peaks, _mm_srli_si128(peaks, 2));
+    peaks = _mm_max_epu8(peaks, _mm_srli_si128(peaks, 1));
+    return _mm_cvtsi128_si32(peaks) & 0xff;
+  }
+
+  static int64_t low64(__m128i v)
+  {
+    int64_t out;
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(&out), v);
+    return out;
+  }
+
+  const __m128i t;
+  const __m128i lanes = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m128i lanes_lo = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m128i lanes_hi = _mm_setr_epi16(8, 9, 10, 11, 12, 13, 14, 15);
+};
+#endif
+
 // Bit i = (p[i] > threshold) for i < min(n, 64), the rest clear. All 16 (n <= 16) or 64 bytes are
 // read (one vector pass, no branch per pixel) when they lie before @p limit, the end of the image's buffer.
 inline uint64_t maskAbove64(const uint8_t* p, int n, int threshold, const uint8_t* limit)
@@ -767,95 +868,114 @@ inline uint64_t maskAbove64(const uint8_t* p, int n, int threshold, const uint8_
 }
 }  // namespace
 
-inline BlobDetector::Run* BlobDetector::runsAbove(const cv::Mat& image, const Span& span, int threshold, Run* out)
-{
-  // 64 pixels at a time; runs start and end where the mask changes (as in extractRuns()).
-  const uint8_t* row = image.ptr<uint8_t>(span.y) + span.x0;
-  const int n = span.x1 - span.x0;
-  if (n <= 64)
-  {
-    // One word (most spans): each run is a block of ones, from its first one to the next zero.
-    uint64_t m = maskAbove64(row, n, threshold, image.datalimit);
-    while (m != 0)
-    {
-      const int a = __builtin_ctzll(m);
-      const uint64_t beyond = ~m & (~uint64_t{ 0 } << a);  // the zeros from a on
-      const int b = beyond != 0 ? __builtin_ctzll(beyond) : 64;
-      *out++ = splitRun(span.y, span.x0 + a, span.x0 + std::min(b, n));
-      m &= b < 64 ? ~uint64_t{ 0 } << b : 0;
-    }
-    return out;
-  }
-  uint64_t carry = 0;
-  int x0 = -1;
-  for (int k = 0; k < n; k += 64)
-  {
-    const uint64_t m = maskAbove64(row + k, n - k, threshold, image.datalimit);
-    uint64_t t = m ^ (m << 1 | carry);
-    carry = m >> 63;
-    for (; t != 0; t &= t - 1)
-    {
-      const int x = span.x0 + k + __builtin_ctzll(t);
-      if (x0 < 0)
-        x0 = x;
-      else
-      {
-        *out++ = splitRun(span.y, x0, x);
-        x0 = -1;
-      }
-    }
-  }
-  if (x0 >= 0)
-    *out++ = splitRun(span.y, x0, span.x1);
-  return out;
-}
-
-inline BlobDetector::Run BlobDetector::splitRun(int y, int x0, int x1)
-{
-  Run run;
-  run.y = y;
-  run.x0 = x0;
-  run.x1 = x1;
-  return run;  // its label (parent): linkLabels(); peak is not used in splitting
-}
-
 void BlobDetector::labelAbove(const cv::Mat& image, const Region& region, int threshold)
 {
-  // Runs above the threshold inside the region's spans, row by row, joined 8-connected by
-  // union-find over labels (whose run buffers are free again by now).
+  // Runs above the threshold inside the region's spans, row by row, each joined 8-connected to the
+  // row above as it is found, by union-find over labels (whose run buffers are free again by now).
   parts_.clear();
-  runs_.clear();
   labels_.clear();
   label_boxes_.clear();
-  int prev_begin = 0, prev_end = 0, prev_y = -2;
+  split_pixels_ += region.box.area;
   // At most a run per two pixels of each span (Run() is empty: no writes).
-  size_t most = 0;
-  long pixels = 0;
-  for (int s = region.begin; s < region.end; ++s)
+  runs_.resize(static_cast<size_t>(region.span_area + (region.end - region.begin) + 1) / 2);
+  LinkCursor c{ runs_.data(), runs_.data(), runs_.data(), runs_.data(), -2 };
+  const uint8_t* const limit = image.datalimit;
+  for (const Span *s = spans_.data() + region.begin, *end = spans_.data() + region.end; s < end; ++s)
   {
-    const int n = spans_[static_cast<size_t>(s)].x1 - spans_[static_cast<size_t>(s)].x0;
-    pixels += n;
-    most += static_cast<size_t>(n + 1) / 2;
+    if (s->y != c.y)
+      nextRow(c, s->y);
+    const uint8_t* row = image.ptr<uint8_t>(s->y) + s->x0;
+    const int n = s->x1 - s->x0;
+    if (n < 64)
+    {
+      // Bits past n are clear: a run's start and end are the mask's changes, in pairs.
+      const uint64_t m = maskAbove64(row, n, threshold, limit);
+      for (uint64_t t = m ^ (m << 1); t != 0;)
+      {
+        const int a = __builtin_ctzll(t);
+        t &= t - 1;
+        const int b = __builtin_ctzll(t);
+        t &= t - 1;
+        linkRun(c, s->x0 + a, s->x0 + b);
+      }
+      continue;
+    }
+    uint64_t carry = 0;
+    int x0 = -1;
+    for (int k = 0; k < n; k += 64)
+    {
+      const uint64_t m = maskAbove64(row + k, n - k, threshold, limit);
+      uint64_t t = m ^ (m << 1 | carry);
+      carry = m >> 63;
+      for (; t != 0; t &= t - 1)
+      {
+        const int x = s->x0 + k + __builtin_ctzll(t);
+        if (x0 < 0)
+          x0 = x;
+        else
+        {
+          linkRun(c, x0, x);
+          x0 = -1;
+        }
+      }
+    }
+    if (x0 >= 0)
+      linkRun(c, x0, s->x1);
   }
-  split_pixels_ += pixels;
-  runs_.resize(most);
-  Run* out = runs_.data();
-  for (int s = region.begin; s < region.end;)
+  runs_.resize(static_cast<size_t>(c.out - runs_.data()));
+  groupRunsIntoParts(region);
+}
+
+inline void BlobDetector::nextRow(LinkCursor& c, int y) const
+{
+  // The runs written since the last row change are the row above when it was y - 1.
+  c.prev = c.y == y - 1 ? c.row_begin : c.out;
+  c.prev_end = c.out;
+  c.row_begin = c.out;
+  c.y = y;
+}
+
+inline void BlobDetector::linkRun(LinkCursor& c, int x0, int x1)
+{
+  // linkRows()'s sweep, one run at a time: the run takes the label of the first run above it that
+  // it touches (or a new one), and labels that meet are united: the union-find runs over the few
+  // labels (hot in cache), not over every run. Each label's box grows with its runs.
+  while (c.prev < c.prev_end && c.prev->x1 < x0)
+    ++c.prev;
+  const Run* q = c.prev;
+  int32_t label;
+  if (q < c.prev_end && q->x0 <= x1)
   {
-    const int y = spans_[static_cast<size_t>(s)].y;
-    const int cur_begin = static_cast<int>(out - runs_.data());
-    for (; s < region.end && spans_[static_cast<size_t>(s)].y == y; ++s)
-      out = runsAbove(image, spans_[static_cast<size_t>(s)], threshold, out);
-    const int cur_end = static_cast<int>(out - runs_.data());
-    if (prev_y != y - 1)  // a row of the region without pixels lies between
-      prev_begin = prev_end = cur_begin;
-    linkLabels(prev_begin, prev_end, cur_begin, cur_end);
-    prev_begin = cur_begin;
-    prev_end = cur_end;
-    prev_y = y;
+    label = (q++)->parent;  // any label of the set: its root is found when needed
+    for (; q < c.prev_end && q->x0 <= x1; ++q)
+    {
+      const int a = findLabel(label), b = findLabel(q->parent);
+      label = std::min(a, b);
+      labels_[static_cast<size_t>(std::max(a, b))] = label;
+    }
   }
-  runs_.resize(static_cast<size_t>(out - runs_.data()));
-  groupRunsIntoParts();
+  else
+  {
+    label = static_cast<int32_t>(labels_.size());
+    labels_.push_back(label);
+    Box& b = label_boxes_.emplace_back();
+    b.x0 = x0;
+    b.x1 = x1;
+    b.y0 = c.y;
+    b.area = 0;
+    b.last = 0;  // its run count
+  }
+  Run& run = *c.out++;
+  run.y = c.y;
+  run.x0 = x0;
+  run.x1 = x1;
+  run.parent = label;
+  Box& b = label_boxes_[static_cast<size_t>(label)];
+  b.x0 = std::min(b.x0, x0);
+  b.x1 = std::max(b.x1, x1);
+  b.y1 = c.y + 1;
+  b.area += x1 - x0;
+  ++b.last;
 }
 
 inline int BlobDetector::findLabel(int l)
@@ -869,43 +989,7 @@ inline int BlobDetector::findLabel(int l)
   return l;
 }
 
-void BlobDetector::linkLabels(int prev_begin, int prev_end, int cur_begin, int cur_end)
-{
-  // The sweep of linkRows(), but a run takes the label of the first run above it that it touches
-  // (or a new one), and labels that meet are united: the union-find runs over the few labels (hot
-  // in cache), not over every run. Each label's box grows with its runs (merged into the parts later).
-  int p = prev_begin;
-  for (int c = cur_begin; c < cur_end; ++c)
-  {
-    Run& cr = runs_[static_cast<size_t>(c)];
-    while (p < prev_end && runs_[static_cast<size_t>(p)].x1 < cr.x0)
-      ++p;
-    int q = p;
-    if (q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1)
-      cr.parent = runs_[static_cast<size_t>(q++)].parent;  // any label of the set: its root is found when needed
-    else
-    {
-      cr.parent = static_cast<int32_t>(labels_.size());
-      labels_.push_back(cr.parent);
-      Box& b = label_boxes_.emplace_back();
-      startBox(b, cr, 0);
-    }
-    for (; q < prev_end && runs_[static_cast<size_t>(q)].x0 <= cr.x1; ++q)
-    {
-      const int a = findLabel(cr.parent), b = findLabel(runs_[static_cast<size_t>(q)].parent);
-      cr.parent = std::min(a, b);
-      labels_[static_cast<size_t>(std::max(a, b))] = cr.parent;
-    }
-    Box& b = label_boxes_[static_cast<size_t>(cr.parent)];
-    b.x0 = std::min(b.x0, cr.x0);
-    b.x1 = std::max(b.x1, cr.x1);
-    b.y1 = cr.y + 1;
-    b.area += cr.x1 - cr.x0;
-    ++b.last;  // its run count
-  }
-}
-
-void BlobDetector::groupRunsIntoParts()
+void BlobDetector::groupRunsIntoParts(const Region& region)
 {
   // A part per root label, in the order of their first runs: a set's root is its smallest label,
   // the one its first run was given. Then the runs copied into spans_ grouped by part.
@@ -917,7 +1001,7 @@ void BlobDetector::groupRunsIntoParts()
     if (root == static_cast<int>(l))
     {
       part_of_label_[l] = static_cast<int32_t>(parts_.size());
-      Region r{ Blob(), 0, b.last };
+      Region r{ Blob(), 0, b.last, 0 };
       r.box.x0 = b.x0;
       r.box.x1 = b.x1;
       r.box.y0 = b.y0;
@@ -934,6 +1018,15 @@ void BlobDetector::groupRunsIntoParts()
     r.box.y1 = std::max(r.box.y1, b.y1);
     r.box.area += b.area;
     r.end += b.last;
+  }
+  if (parts_.size() == 1)
+  {
+    // All of the region above the threshold: the region's spans serve the next level as well (its
+    // pixels at or below the threshold are below the next threshold too).
+    parts_[0].begin = region.begin;
+    parts_[0].end = region.end;
+    parts_[0].span_area = region.span_area;
+    return;
   }
   appendSpans(parts_);
 }
@@ -964,23 +1057,38 @@ bool BlobDetector::weighAbove(const cv::Mat& image, Blob& b, int threshold) cons
 
 bool BlobDetector::weighAbove(const cv::Mat& image, Region& part, int threshold) const
 {
-  int64_t sw = 0, swx = 0, swy = 0;  // exact, as above
+  // The part is its spans' pixels above the threshold (all of them unless it kept its region's
+  // spans): weights max(0, value - threshold). Integer sums, exact, as above.
+  int64_t sw = 0, swx = 0, swy = 0;
   int peak = 0;
+#if defined(__SSE2__)
+  const WeighSimd k(threshold);
+  __m128i peaks = _mm_setzero_si128();
+#endif
   for (int s = part.begin; s < part.end; ++s)
   {
     const Span& span = spans_[static_cast<size_t>(s)];
     const uint8_t* row = image.ptr<uint8_t>(span.y);
-    int64_t span_w = 0;
-    for (int x = span.x0; x < span.x1; ++x)
+    int64_t span_w = 0, span_wx = 0;
+    int x = span.x0;
+#if defined(__SSE2__)
+    if (image.datalimit - (row + span.x1) >= 15)  // every 16-pixel load lies in the image's buffer
+      x = k.weigh(row, span.x0, span.x1, span_w, span_wx, peaks);
+#endif
+    for (; x < span.x1; ++x)
     {
-      const int w = static_cast<int>(row[x]) - threshold;  // > 0: the part is above the threshold
+      const int w = std::max(0, static_cast<int>(row[x]) - threshold);
       span_w += w;
-      swx += static_cast<int64_t>(w) * x;
+      span_wx += static_cast<int64_t>(w) * x;
       peak = std::max(peak, w);
     }
     sw += span_w;
+    swx += span_wx;
     swy += span_w * span.y;
   }
+#if defined(__SSE2__)
+  peak = std::max(peak, WeighSimd::largest(peaks));
+#endif
   return setWeighted(sw, swx, swy, peak, part.box);
 }
 

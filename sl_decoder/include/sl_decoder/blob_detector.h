@@ -33,8 +33,9 @@ struct RowInput;
  * primitive is therefore re-thresholded, over its own pixels only, at rising fractions of its grey
  * range (like the stable regions of MSER): the bridges between primitives are dimmer than their
  * cores, so at some level the parts that pass the filters appear. Such blobs carry the level in
- * Blob::level. Each level only looks at the pixels of the parts the previous level kept, so the
- * work is at most kLastLevel times the component's area, whatever the image.
+ * Blob::level. Each level only looks at the pixels of the parts the previous level kept (a part
+ * that is all of its region above the threshold is read through the region's pixels), so the work
+ * is at most kLastLevel times the component's area, whatever the image.
  */
 class BlobDetector
 {
@@ -110,8 +111,8 @@ public:
   /// @brief Number of components found before filtering in the last call.
   int componentCount() const { return static_cast<int>(boxes_.size()); }
 
-  /// @brief Pixels re-thresholded while splitting oversized components in the last call: at most
-  /// kLastLevel (5) times their area, so never more than 5 times the image.
+  /// @brief Pixels of the parts re-thresholded while splitting oversized components in the last
+  /// call: at most kLastLevel (5) times their area, so never more than 5 times the image.
   long splitPixels() const { return split_pixels_; }
 
 private:
@@ -126,14 +127,19 @@ private:
   /// Pixels [x0, x1) of row y.
   struct Span
   {
+    Span() {}  // uninitialised: spans_ grows by the regions' run counts before they are written
+    Span(int32_t row, int32_t first, int32_t end) : y(row), x0(first), x1(end) {}
     int32_t y, x0, x1;
   };
 
   /// A component being split: its box (and level) and its pixels, spans_[begin, end) in row order.
+  /// A part that is all of its region above its threshold keeps the region's spans: then they hold
+  /// more pixels (span_area) than it has (box.area), all at or below that threshold.
   struct Region
   {
     Blob box;
     int32_t begin, end;
+    int32_t span_area;
   };
 
   /// A component of the row pass: its box, pixel count, peak weight and its first and last run.
@@ -202,19 +208,26 @@ private:
   /// Sets @p b's centroid (weight sums @p sw, @p swx, @p swy) and contrast (@p peak); false if @p sw is 0.
   static bool setWeighted(int64_t sw, int64_t swx, int64_t swy, int peak, Blob& b);
   /// Labels the pixels of @p region above @p threshold (8-connected); the parts (box, area and
-  /// their pixels, appended to spans_) go to parts_.
+  /// their pixels, appended to spans_; a single part keeps the region's spans) go to parts_.
   void labelAbove(const cv::Mat& image, const Region& region, int threshold);
-  /// Writes the runs of @p span's pixels above @p threshold at @p out; returns the end of them.
-  inline Run* runsAbove(const cv::Mat& image, const Span& span, int threshold, Run* out);
-  /// The run [x0, x1) of row @p y, not yet labelled.
-  static inline Run splitRun(int y, int x0, int x1);
+  /// Where labelAbove() writes the next run, and the runs of the row above it may touch.
+  struct LinkCursor
+  {
+    Run* out;
+    const Run *prev, *prev_end;  // the row above: from the first run the next run may touch
+    Run* row_begin;              // the current row's first run
+    int y;                       // the current row
+  };
+  /// Moves @p c on to row @p y.
+  inline void nextRow(LinkCursor& c, int y) const;
+  /// Writes the run [x0, x1) of the current row at @p c with a label: that of the 8-connected runs
+  /// of the row above, united in labels_, or a new one; the label's box grows by it.
+  inline void linkRun(LinkCursor& c, int x0, int x1);
   /// The root of label @p l in labels_ (path halving).
   inline int findLabel(int l);
-  /// Gives the runs [cur_begin, cur_end) of a row a label (Run::parent): that of the 8-connected
-  /// runs of the row above, united in labels_, or a new one.
-  void linkLabels(int prev_begin, int prev_end, int cur_begin, int cur_end);
-  /// Forms parts_ from the labelled runs_ and appends their pixels to spans_.
-  void groupRunsIntoParts();
+  /// Forms parts_ from the labelled runs_ and appends their pixels to spans_ (a single part keeps
+  /// the spans of @p region).
+  void groupRunsIntoParts(const Region& region);
   /// Appends the runs of each region (its index in @p regions: part_of_label_ of the run's label;
   /// each region's end: its run count) to spans_ and sets the regions' [begin, end).
   void appendSpans(std::vector<Region>& regions);

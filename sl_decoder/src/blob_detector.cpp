@@ -75,11 +75,15 @@ void boxMinMax(const cv::Mat& image, const Blob& box, int& lo, int& hi)
           break;
       }
     }
-    for (int bytes = 8; bytes > 0; bytes /= 2)
-    {
-      mn = _mm_min_epu8(mn, _mm_srli_si128(mn, bytes));
-      mx = _mm_max_epu8(mx, _mm_srli_si128(mx, bytes));
-    }
+    // The byte shift takes a constant (clang insists): halves, quarters, eighths, sixteenths.
+    mn = _mm_min_epu8(mn, _mm_srli_si128(mn, 8));
+    mx = _mm_max_epu8(mx, _mm_srli_si128(mx, 8));
+    mn = _mm_min_epu8(mn, _mm_srli_si128(mn, 4));
+    mx = _mm_max_epu8(mx, _mm_srli_si128(mx, 4));
+    mn = _mm_min_epu8(mn, _mm_srli_si128(mn, 2));
+    mx = _mm_max_epu8(mx, _mm_srli_si128(mx, 2));
+    mn = _mm_min_epu8(mn, _mm_srli_si128(mn, 1));
+    mx = _mm_max_epu8(mx, _mm_srli_si128(mx, 1));
     lo = std::min(lo, _mm_cvtsi128_si32(mn) & 0xff);
     hi = std::max(hi, _mm_cvtsi128_si32(mx) & 0xff);
     return;

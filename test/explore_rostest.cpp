@@ -334,8 +334,7 @@ TEST_F(Explore, MovesWhereSafeAndNeverTouches)
   if (!std::isnan(growth))
   {
     // MB; measured 0.8 MB over an hour
-    EXPECT_LE(growth, privateParam("memory_growth", 3.0))
-        << memory_node << " grew from " << memory.samples()[settle] << " MB to " << memory.samples().back() << " MB";
+    EXPECT_LE(growth, privateParam("memory_growth", 3.0)) << memory.growthText(settle);
   }
   // The stops against the ground truth: printed always, asserted unless ~check_stops is false (the
   // soak: in an hour 3 of 125 stops came 25 to 90 mm early, for map cells occupied where the scene

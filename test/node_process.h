@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -89,6 +90,16 @@ public:
     if (samples_.size() < settle + 2)
       return std::nan("");
     return samples_.back() - samples_[settle];
+  }
+  /// What growth(@p settle) measured, in words (for a check's message and the log).
+  std::string growthText(std::size_t settle) const
+  {
+    if (samples_.size() < settle + 2)
+      return node_ + ": too few memory samples";
+    char text[160];
+    std::snprintf(text, sizeof(text), " grew %.1f MB, from %.1f MB (sample %zu) to %.1f MB (the last of %zu)",
+                  growth(settle), samples_[settle], settle, samples_.back(), samples_.size());
+    return node_ + text;
   }
 
 private:

@@ -23,6 +23,11 @@ constexpr double kBlockedTime = 2.0;        // s BLOCKED before an escape
 constexpr double kEscapeReach = 0.6;        // m searched for the obstacle to turn away from
 constexpr double kEscapeDistance = 0.15;    // m crept away
 constexpr double kEscapeSpeed = 0.05;       // m/s
+constexpr double kRoamMin = 0.4;            // m, the shortest ROAM leg (shorter ones where nothing lies farther)
+constexpr double kRoamTurnWeight = 1.5;     // score lost by a ROAM target straight behind the robot
+constexpr double kRoamUnknownWeight = 1.0;  // score lost by a ROAM leg over unknown floor only
+constexpr double kRenewShare = 0.5;         // roam: driven-over share of the floor before a new round
+constexpr double kHandover = 0.35;          // m before a ROAM goal where roaming takes the next one
 
 /// Cell offsets whose distance (m, between cell centres) lies in [lo, hi].
 std::vector<std::pair<int, int>> cellsWithin(double lo, double hi, double resolution)
@@ -67,6 +72,7 @@ void CoverageParams::validate() const
   require(waypoint_spacing >= 0.1 && waypoint_spacing <= 10.0, "waypoint_spacing",
           "must be in [0.1, 10] m, got " + std::to_string(waypoint_spacing));
   require(min_gain >= 1 && min_gain <= 10000, "min_gain", "must be in [1, 10000], got " + std::to_string(min_gain));
+  require(roam_leg >= 0.3 && roam_leg <= 10.0, "roam_leg", "must be in [0.3, 10] m, got " + std::to_string(roam_leg));
   require(view_min >= 0.0 && view_max > view_min && view_max <= 5.0, "view_min/view_max",
           "must satisfy 0 <= view_min < view_max <= 5 m, got " + std::to_string(view_min) + ", " +
               std::to_string(view_max));
@@ -89,6 +95,8 @@ const char* toString(CoverageMode mode)
       return "SPOT";
     case CoverageMode::FRONTIER:
       return "FRONTIER";
+    case CoverageMode::ROAM:
+      return "ROAM";
     case CoverageMode::DONE:
       return "DONE";
   }
@@ -328,6 +336,12 @@ void CoveragePlanner::failed(const NavGoal& goal)
   }
 }
 
+void CoveragePlanner::forgetOffers()
+{
+  std::fill(blocked_.begin(), blocked_.end(), 0);
+  std::fill(offers_.begin(), offers_.end(), 0);
+}
+
 void CoveragePlanner::emit(const NavGrid& grid, const std::vector<std::size_t>& cells, double spacing,
                            CoverageTarget& out)
 {
@@ -518,6 +532,73 @@ bool CoveragePlanner::spot(const NavGrid& grid, CoverageTarget& out)
   return false;
 }
 
+bool CoveragePlanner::roam(const NavGrid& grid, const Pose& pose, CoverageTarget& out)
+{
+  // Long legs ahead: the robot drives them without stopping, at the speed the known floor allows,
+  // and turns in place only where nothing is left ahead.
+  const double leg = params_.roam_leg;
+  const double full = static_cast<double>(std::max<std::size_t>(disc_.size(), 1));
+  double best = -std::numeric_limits<double>::infinity();
+  std::size_t pick = 0;
+  for (const std::uint32_t i : centres_)
+  {
+    const double d = dist_[i] * resolution_;  // flood steps: about the path's length
+    if (blocked_[i] || gain_[i] < params_.min_gain || d < kRoamMin)
+    {
+      continue;
+    }
+    const double x = origin_x_ + (static_cast<int>(i % n_) + 0.5) * resolution_;
+    const double y = origin_y_ + (static_cast<int>(i / n_) + 0.5) * resolution_;
+    const double turn = std::abs(wrapAngle(std::atan2(y - pose.y, x - pose.x) - pose.yaw));
+    const double base = std::min(d, 2.0 * leg) / leg + gain_[i] / full - kRoamTurnWeight * turn / M_PI;
+    if (base <= best)
+    {
+      continue;
+    }
+    // Unknown floor on the way is looked at, and crept over: a leg over known floor is driven at speed.
+    const double score = base - kRoamUnknownWeight * unknownShare(pose.x, pose.y, x, y);
+    if (score > best)
+    {
+      best = score;
+      pick = i;
+    }
+  }
+  if (!std::isfinite(best))
+  {
+    return false;
+  }
+  out.mode = CoverageMode::ROAM;
+  out.gain = gain_[pick];
+  emit(grid, { pick }, params_.waypoint_spacing, out);
+  return true;
+}
+
+double CoveragePlanner::unknownShare(double x0, double y0, double x1, double y1) const
+{
+  // The centre line and both sides of the disc, sampled every cell.
+  const double length = std::hypot(x1 - x0, y1 - y0);
+  const int steps = std::max(1, static_cast<int>(std::ceil(length / resolution_)));
+  const double side = params_.planner.robot_radius;
+  const double nx = length > 0.0 ? -(y1 - y0) / length : 0.0;
+  const double ny = length > 0.0 ? (x1 - x0) / length : 0.0;
+  int unknown = 0;
+  int samples = 0;
+  for (int k = 1; k <= steps; ++k)
+  {
+    const double t = static_cast<double>(k) / steps;
+    for (const double o : { -side, 0.0, side })
+    {
+      int ix = 0, iy = 0;
+      if (cellOf(x0 + t * (x1 - x0) + o * nx, y0 + t * (y1 - y0) + o * ny, ix, iy) && inside(ix, iy))
+      {
+        unknown += cells_[index(ix, iy)] == Cell::Unknown;
+        ++samples;
+      }
+    }
+  }
+  return samples > 0 ? static_cast<double>(unknown) / samples : 0.0;
+}
+
 bool CoveragePlanner::sight(int x0, int y0, int x1, int y1) const
 {
   const int steps = 2 * std::max(std::abs(x1 - x0), std::abs(y1 - y0));
@@ -660,8 +741,9 @@ CoverageTarget CoveragePlanner::next(const NavGrid& grid, const CoverageGrid& co
     pending_frontier_ = false;
   }
   CoverageTarget out;
-  const bool found = params_.edges_first ? (edge(grid, out) || lane(grid, out) || spot(grid, out))
-                                         : (lane(grid, out) || edge(grid, out) || spot(grid, out));
+  const bool found = params_.roam          ? roam(grid, pose, out)
+                     : params_.edges_first ? (edge(grid, out) || lane(grid, out) || spot(grid, out))
+                                           : (lane(grid, out) || edge(grid, out) || spot(grid, out));
   if (!found && !frontier(grid, out) && !lookAround(pose, out))
   {
     out = CoverageTarget();
@@ -703,6 +785,7 @@ bool CoverageRunner::onMap(const OccupancyView& view, double stamp)
 
 bool CoverageRunner::nextGoal(const Pose& pose, double now)
 {
+  bool renewed = false;
   for (int attempt = 0; attempt < 50; ++attempt)
   {
     if (goal_index_ >= target_.goals.size())
@@ -711,6 +794,15 @@ bool CoverageRunner::nextGoal(const Pose& pose, double now)
       measure(now);
       ++targets_[static_cast<int>(target_.mode)];
       goal_index_ = 0;
+      if (target_.mode == CoverageMode::DONE && planner_.params().roam && !renewed && progress_ >= kRenewShare)
+      {
+        // Roaming does not end: the floor known was driven over, so a new round begins.
+        coverage_.reset(nav_.grid());
+        planner_.forgetOffers();
+        ++rounds_;
+        renewed = true;
+        continue;
+      }
       if (target_.mode == CoverageMode::DONE)
       {
         return false;
@@ -719,6 +811,7 @@ bool CoverageRunner::nextGoal(const Pose& pose, double now)
     const NavGoal& goal = target_.goals[goal_index_++];
     if (nav_.setGoal(goal, now).empty())
     {
+      goal_stucks_ = nav_.stucks();
       return true;
     }
     planner_.failed(goal);
@@ -837,9 +930,18 @@ void CoverageRunner::measure(double now)
 
 std::string CoverageRunner::summary() const
 {
-  char text[120];
-  std::snprintf(text, sizeof(text), "coverage %.1f %% of %.2f m2 reachable floor, %s", 100.0 * progress_, floor_area_,
-                done_ ? "DONE" : (started_ ? toString(target_.mode) : "waiting for the map"));
+  char text[160];
+  const char* what = done_ ? "DONE" : (started_ ? toString(target_.mode) : "waiting for the map");
+  if (planner_.params().roam)
+  {
+    std::snprintf(text, sizeof(text), "roaming: %.1f %% of %.2f m2 reachable floor driven over in round %d, %s",
+                  100.0 * progress_, floor_area_, rounds_ + 1, what);
+  }
+  else
+  {
+    std::snprintf(text, sizeof(text), "coverage %.1f %% of %.2f m2 reachable floor, %s", 100.0 * progress_,
+                  floor_area_, what);
+  }
   return text;
 }
 
@@ -857,7 +959,8 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt, d
   {
     return out_;
   }
-  if (!done_ && (!started_ || nav_.state() != NavState::ACTIVE))
+  const bool roaming = planner_.params().roam;
+  if (!done_ && (!started_ || nav_.state() != NavState::ACTIVE) && (!roaming || now - retry_time_ >= 1.0))
   {
     if (started_ && nav_.state() == NavState::ABORTED && goal_index_ > 0)
     {
@@ -865,7 +968,10 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt, d
       goal_index_ = target_.goals.size();
     }
     started_ = true;
-    done_ = !nextGoal(pose, now);
+    // Roaming never ends DONE: with nothing to go to (yet), it asks again a second later.
+    const bool more = nextGoal(pose, now);
+    done_ = !more && !roaming;
+    retry_time_ = more ? -std::numeric_limits<double>::infinity() : now;
   }
   if (now - progress_time_ >= 2.0)
   {
@@ -876,6 +982,22 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt, d
                               ? std::max(0.0, target_.speed_limit - nav_.params().follower.acceleration * dt)
                               : std::numeric_limits<double>::infinity();
   out_ = nav_.step(pose, now, std::min(edge_cap, speed_cap));
+  if (roaming && target_.mode == CoverageMode::ROAM && out_.state == NavState::ACTIVE)
+  {
+    if (nav_.stucks() != goal_stucks_ && goal_index_ > 0)
+    {
+      // The safety filter holds the robot on this leg: another leg, rather than looking around
+      // and backing off for a goal that is only one of many.
+      planner_.failed(target_.goals[goal_index_ - 1]);
+      goal_index_ = target_.goals.size();
+      nav_.cancel(now, "roam: stuck on this leg");
+      retry_time_ = -std::numeric_limits<double>::infinity();
+    }
+    else if (goal_index_ >= target_.goals.size() && out_.remaining < kHandover)
+    {
+      nextGoal(pose, now);  // the next leg before this one's end: no stop between legs
+    }
+  }
   const bool guarded = out_.linear > 0.0 && !safe(pose, out_.linear, out_.angular, now);
   watchBlocked(pose, now, guarded);
   if (guarded && escape_phase_ == 0)

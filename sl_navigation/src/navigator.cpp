@@ -39,6 +39,7 @@ void NavigatorParams::validate() const
   detail::requireRange("map_timeout", map_timeout, 0.1, 60.0);
   detail::requireRange("unseen_goal_distance", unseen_goal_distance, 0.0, 5.0);
   detail::requireRange("unseen_goal_time", unseen_goal_time, 1.0, 600.0);
+  detail::requireRange("unseen_goal_clearance", unseen_goal_clearance, 0.0, 2.0);
 }
 
 const char* toString(NavState state)
@@ -125,6 +126,7 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   refuse_since_ = std::numeric_limits<double>::quiet_NaN();
   best_remaining_ = std::numeric_limits<double>::infinity();
   best_distance_ = std::numeric_limits<double>::infinity();
+  goal_seen_ = false;
   goal_distance_ = std::numeric_limits<double>::infinity();  // set at the first pose
   progress_time_ = now;
   has_last_pose_ = false;
@@ -206,9 +208,11 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
     }
     plan_ = std::move(p);
     follower_.setPath(plan_.points, goal_.yaw, goal_.use_yaw, tolerance - plan_.goal_shift);
-    if (detour && follower_.remaining() <= params_.max_detour * goal_distance_)
+    if (detour && !mayBeInside(now) && follower_.remaining() <= params_.max_detour * goal_distance_)
     {
       // An obstacle found on the way is no regress: progress counts along the detour from here.
+      // Not toward a goal that may lie inside something (mayBeInside()): a detour there may be the
+      // search for a way into it, and has to beat the shortest plan so far within progress_timeout.
       best_remaining_ = follower_.remaining();
     }
     refuse_since_ = std::numeric_limits<double>::quiet_NaN();
@@ -331,7 +335,9 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
                   std::hypot(goal_.x - pose.x, goal_.y - pose.y), goal_.x, goal_.y, out_.elapsed, out_.travelled);
     return endNow(NavState::SUCCEEDED, text);
   }
-  if (c.goal_distance < best_distance_ - params_.progress_distance ||
+  // Nearer in a straight line is no progress toward a goal that may lie inside something: circling
+  // it in search of a way in also comes nearer.
+  if ((!mayBeInside(now) && c.goal_distance < best_distance_ - params_.progress_distance) ||
       c.remaining < best_remaining_ - params_.progress_distance)
   {
     best_distance_ = std::min(best_distance_, c.goal_distance);
@@ -376,6 +382,20 @@ Point Navigator::pathEnd() const
   return planned ? plan_.points.back() : Point{ goal_.x, goal_.y };
 }
 
+bool Navigator::mayBeInside(double now)
+{
+  const Point end = pathEnd();
+  goal_seen_ = goal_seen_ || grid_.at(end.x, end.y, now) == Cell::Free;
+  if (goal_seen_ || params_.unseen_goal_clearance <= 0.0)
+  {
+    return false;
+  }
+  bool near = false;
+  grid_.forEachCellInDisc(end.x, end.y, params_.unseen_goal_clearance,
+                          [&](int ix, int iy) { near = near || grid_.cell(ix, iy, now) == Cell::Occupied; });
+  return near;
+}
+
 bool Navigator::goalStaysUnseen(const Pose& pose, double now)
 {
   const double dt = std::isnan(last_step_) ? 0.0 : std::max(0.0, now - last_step_);
@@ -404,6 +424,7 @@ void Navigator::checkStuck(const Pose& pose, double now)
     const bool same =
         now - stuck_at_time_ < kStuckAgain && std::hypot(pose.x - stuck_at_.x, pose.y - stuck_at_.y) < kStuckPlace;
     stuck_count_ = same ? stuck_count_ + 1 : 1;
+    ++stucks_;
     stuck_at_time_ = now;
     if (!same)
     {

@@ -143,7 +143,9 @@ struct CleanRun
   double travelled = 0.0;        // m
   double done_time = -1.0;       // s when the runner reported DONE (-1: not)
   double progress = 0.0;         // the runner's own figure (its map's floor)
-  int targets[5] = { 0, 0, 0, 0, 0 };
+  std::vector<double> travelled_at;  // m, at each report time
+  int targets[6] = { 0, 0, 0, 0, 0, 0 };
+  int rounds = 0;  // exploring: rounds over the room begun
   double mode_time[6] = { 0, 0, 0, 0, 0, 0 };  // per FollowMode, and guarded/escaping (cover)
   int escapes = 0;
   double wall_band = 0.0;  // m, median uncovered band along the straight outer walls (cover)
@@ -234,10 +236,11 @@ inline NavigatorParams cleaningNavigator()
 
 /// The coverage runner on the kinematic robot for @p limit s; coverage reported at @p times (s).
 inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::vector<double>& times,
-                         const CoverageParams& cp = CoverageParams(), const std::string& picture = "")
+                         const CoverageParams& cp = CoverageParams(), const std::string& picture = "",
+                         const NavigatorParams& np = cleaningNavigator())
 {
   CleanRun run;
-  CoverageRunner runner(cleaningNavigator(), cp);
+  CoverageRunner runner(np, cp);
   TruthMeter meter(room.world, pose);
   std::vector<std::int8_t> memory, data;
   OccupancyView view;
@@ -279,6 +282,7 @@ inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::v
     while (next_time < times.size() && t + dt > times[next_time] - 1e-9)
     {
       run.coverage.push_back(cov);
+      run.travelled_at.push_back(run.travelled);
       ++next_time;
     }
   }
@@ -292,7 +296,8 @@ inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::v
   run.progress = runner.progress();
   run.wall_band = wallBand(room, meter);
   run.escapes = runner.escapes();
-  std::copy(runner.targets(), runner.targets() + 5, run.targets);
+  std::copy(runner.targets(), runner.targets() + 6, run.targets);
+  run.rounds = runner.rounds();
   return run;
 }
 

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <sl_testing/errors.h>
 
+#include "sl_navigation/coverage_planner.h"
 #include "sl_navigation/navigator.h"
 #include "test_world.h"
 
@@ -296,6 +297,38 @@ TEST(Navigator, AbortsAGoalInsideFurnitureWithTheReason)
   EXPECT_GT(late.time, r.time + 5.0);
 }
 
+TEST(Navigator, EndsTheSearchForAWayIntoASofaAfterProgressTimeout)
+{
+  // A goal in the middle of a sofa (1.8 x 0.7 m) against the wall: its inside is never seen, and
+  // the way the planner guesses behind it (through the unseen gap to the wall) keeps moving as its
+  // ends are seen. Without unseen_goal_distance, only unseen_goal_clearance ends that search: each
+  // detour has to beat the shortest plan so far within progress_timeout.
+  World world = walledRoom();
+  world.box(-0.9, 1.8, 0.9, 2.5);
+  const NavGoal goal{ 0.0, 2.15, 0.0, false };
+  Pose start;
+  start.y = -1.5;
+  start.yaw = 1.2;
+  LoopRun runs[2];
+  for (int on = 0; on < 2; ++on)
+  {
+    NavigatorParams p = params();
+    p.unseen_goal_distance = 0.0;
+    p.unseen_goal_clearance = on ? 0.4 : 0.0;
+    Navigator nav(p);
+    ASSERT_TRUE(nav.setGoal(goal, 100.0).empty());
+    runs[on] = drive(nav, world, start, 240.0);
+    std::printf("goal inside a sofa, unseen_goal_clearance %.1f m: %s after %.1f s, %.2f m driven: %s\n",
+                p.unseen_goal_clearance, toString(runs[on].state), runs[on].time, runs[on].travelled,
+                runs[on].reason.c_str());
+    EXPECT_GT(runs[on].min_clearance, 0.0);
+  }
+  EXPECT_EQ(runs[1].state, NavState::ABORTED) << runs[1].reason;
+  EXPECT_NE(runs[1].reason.find("no progress"), std::string::npos) << runs[1].reason;
+  EXPECT_LE(runs[1].time, 50.0);  // measured 37.2 s; 100.3 s without the rule (max_detour ends it)
+  EXPECT_LT(runs[1].time, runs[0].time);
+}
+
 TEST(Navigator, BadParametersThrowNamingThem)
 {
   using sl_testing::refusedNaming;
@@ -304,6 +337,9 @@ TEST(Navigator, BadParametersThrowNamingThem)
   EXPECT_TRUE(refusedNaming<NavigatorParams>("unseen_goal_time",
                                              [](NavigatorParams& p) { p.unseen_goal_time = std::nan(""); }));
   EXPECT_TRUE(refusedNaming<NavigatorParams>("refuse_time", [](NavigatorParams& p) { p.refuse_time = 61.0; }));
+  EXPECT_TRUE(refusedNaming<NavigatorParams>("unseen_goal_clearance",
+                                             [](NavigatorParams& p) { p.unseen_goal_clearance = -0.1; }));
+  EXPECT_TRUE(refusedNaming<CoverageParams>("roam_leg", [](CoverageParams& p) { p.roam_leg = 0.0; }));
 }
 
 TEST(Navigator, AbortsAGoalBehindAClosedWallWithinTheBound)

@@ -28,6 +28,12 @@ struct CoverageParams
   int min_gain = 6;               ///< uncovered floor cells a target must sweep to be offered
   double view_min = 0.5;          ///< m, nearest a frontier is looked at from (the camera's blind ring)
   double view_max = 1.1;          ///< m, farthest a frontier is looked at from
+  /// Exploring instead of cleaning (behaviour roam): ROAM targets (long legs to floor not yet
+  /// driven over, ahead of the robot rather than behind, over known floor rather than unknown) and
+  /// frontiers, no lanes or edge passes, and never DONE: once the floor known was driven over, the
+  /// coverage starts anew
+  bool roam = false;
+  double roam_leg = 1.5;  ///< m of path to a ROAM target: legs up to twice it are preferred (roam_leg)
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -44,7 +50,8 @@ enum class CoverageMode : std::uint8_t
   EDGE,      ///< a pass along the contour of known obstacles at centreClearance(), at edge_speed
   SPOT,      ///< one goal over an uncovered patch no lane or edge pass reaches
   FRONTIER,  ///< look at known free floor next to unknown space (goal with a heading)
-  DONE       ///< no uncovered reachable floor and no frontier left
+  DONE,      ///< no uncovered reachable floor and no frontier left
+  ROAM       ///< exploring: one goal far ahead on floor not yet driven over
 };
 
 /// Short upper-case name of a mode.
@@ -99,6 +106,9 @@ public:
   CoverageTarget next(const NavGrid& grid, const CoverageGrid& coverage, const Pose& pose, double now);
   /// The goal @p goal could not be reached: centre cells within 0.2 m of it are not offered again.
   void failed(const NavGoal& goal);
+  /// Forgets the targets offered and failed (exploring: a new round over the same room); the
+  /// frontiers looked at stay so.
+  void forgetOffers();
 
   /// The reachable floor of the last update() (FloorCell per cell, row-major from the lower left).
   const std::vector<FloorCell>& floor() const { return floor_; }
@@ -123,12 +133,18 @@ private:
   bool edge(const NavGrid& grid, CoverageTarget& out);
   bool spot(const NavGrid& grid, CoverageTarget& out);
   bool frontier(const NavGrid& grid, CoverageTarget& out);
+  /// Exploring: the centre cell not driven over that is far (up to 2 roam_leg of path) and ahead of
+  /// @p pose, preferring long legs; false when none lies at least 0.4 m away.
+  bool roam(const NavGrid& grid, const Pose& pose, CoverageTarget& out);
   /// True when a frontier cell not looked at lies within @p radius of the robot.
   bool frontierNear(const Pose& pose, double radius) const;
   /// A turn in place in three steps (a FRONTIER target), once per place: when no frontier has a viewpoint.
   bool lookAround(const Pose& pose, CoverageTarget& out);
   /// Sum of the unit steps from cell (ix, iy) to its unknown 4-neighbours (0, 0: not a frontier).
   void unknownNormal(int ix, int iy, int& nx, int& ny) const;
+  /// Share of unknown cells on the straight way from (x0, y0) to (x1, y1), sampled on the centre
+  /// line and both sides of the robot's disc (the grid's states at the last update()).
+  double unknownShare(double x0, double y0, double x1, double y1) const;
   /// True when no occupied cell lies between cells (x0, y0) and (x1, y1).
   bool sight(int x0, int y0, int x1, int y1) const;
   std::vector<std::size_t> trace(std::size_t start) const;
@@ -200,7 +216,8 @@ public:
   double progress() const { return progress_; }
   /// The reachable floor at the last planner update, m^2.
   double floorArea() const { return floor_area_; }
-  /// One line for a status: "coverage 42.3 % of 7.91 m2 reachable floor, LANE" (DONE once done).
+  /// One line for a status: "coverage 42.3 % of 7.91 m2 reachable floor, LANE" (DONE once done); roaming:
+  /// "roaming: 42.3 % of 7.91 m2 reachable floor driven over in round 1, ROAM".
   std::string summary() const;
   /// The mode of the target being driven.
   CoverageMode mode() const { return target_.mode; }
@@ -212,6 +229,8 @@ public:
   const CoveragePlanner& planner() const { return planner_; }
   /// Targets per mode so far (indexed by CoverageMode).
   const int* targets() const { return targets_; }
+  /// Exploring: the rounds begun over the room (each forgets where the robot drove).
+  int rounds() const { return rounds_; }
 
 private:
   bool nextGoal(const Pose& pose, double now);
@@ -239,8 +258,11 @@ private:
   double progress_ = 0.0;
   double floor_area_ = 0.0;
   double progress_time_ = -std::numeric_limits<double>::infinity();
-  int targets_[5] = { 0, 0, 0, 0, 0 };
+  int targets_[6] = { 0, 0, 0, 0, 0, 0 };
   NavOutput out_;
+  int rounds_ = 0;
+  std::size_t goal_stucks_ = 0;  // the navigator's stucks() when the current goal was set
+  double retry_time_ = -std::numeric_limits<double>::infinity();  // exploring: when nothing was found last
   double blocked_since_ = std::numeric_limits<double>::quiet_NaN();
   int escape_phase_ = 0;  // 0: none, 1: turning away, 2: creeping
   double escape_yaw_ = 0.0;

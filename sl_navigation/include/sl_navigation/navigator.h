@@ -41,6 +41,11 @@ struct NavigatorParams
   /// 0: off (unseen_goal_distance)
   double unseen_goal_distance = 0.8;
   double unseen_goal_time = 20.0;  ///< s, see unseen_goal_distance (unseen_goal_time)
+  /// A goal never seen free with something the map knows within unseen_goal_clearance (m) may lie
+  /// inside it: toward it, a detour does not restart the progress count and nearer in a straight
+  /// line is no progress, so the search for a way in ends after progress_timeout without a plan
+  /// shorter than any before. 0: off (unseen_goal_clearance)
+  double unseen_goal_clearance = 0.4;
 
   /// @throws std::invalid_argument naming the parameter.
   void validate() const;
@@ -142,6 +147,8 @@ public:
   std::size_t blockedPlaces() const { return blocked_places_; }
   /// Back-offs along the trail so far (stuck twice in the same place).
   std::size_t backoffs() const { return backoffs_; }
+  /// Times the robot was found stuck (told to drive without moving for stuck_time) so far.
+  std::size_t stucks() const { return stucks_; }
 
 private:
   void end(NavState state, const std::string& reason);
@@ -168,6 +175,7 @@ private:
   double refuse_since_ = std::numeric_limits<double>::quiet_NaN();
   double best_remaining_ = std::numeric_limits<double>::infinity();  // path left
   double best_distance_ = std::numeric_limits<double>::infinity();   // straight line to the goal
+  bool goal_seen_ = false;  // the plan's end was once known free
   double goal_distance_ = 0.0;  // straight line from the first pose after setGoal() to the goal
   double progress_time_ = 0.0;
   bool has_last_pose_ = false;
@@ -180,6 +188,9 @@ private:
   /// Adds the time since the last step while the goal's cell is unknown and the robot within
   /// unseen_goal_distance of it; true once that passes unseen_goal_time.
   bool goalStaysUnseen(const Pose& pose, double now);
+  /// True while the plan's end was never seen free and the map knows something within
+  /// unseen_goal_clearance of it (see NavigatorParams::unseen_goal_clearance).
+  bool mayBeInside(double now);
   /// Where the robot is to stop: the plan's end, or the goal without a plan.
   Point pathEnd() const;
   /// Starts a look-around when the robot does not follow its commands.
@@ -218,6 +229,7 @@ private:
   Point backoff_look_;            // the refused point to look at afterwards
   double backoff_started_ = 0.0;  // start of the current phase
   std::size_t backoffs_ = 0;
+  std::size_t stucks_ = 0;
   std::string blocked_text_;  // the last blockAhead(), said in the reason for a while
   double blocked_time_ = -std::numeric_limits<double>::infinity();
   std::size_t blocked_places_ = 0;

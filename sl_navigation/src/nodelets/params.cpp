@@ -70,10 +70,13 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "map_timeout", n.map_timeout);
   get(pnh, "unseen_goal_distance", n.unseen_goal_distance);
   get(pnh, "unseen_goal_time", n.unseen_goal_time);
+  get(pnh, "unseen_goal_clearance", n.unseen_goal_clearance);
   const std::string behaviour = sl_params::read(pnh, "behaviour", std::string("navigate"));
-  p.cover = behaviour == "cover";
+  p.cover = behaviour == "cover" || behaviour == "roam";
   CoverageParams& c = p.coverage;
   c.planner = n.planner;
+  c.roam = behaviour == "roam";
+  get(pnh, "roam_leg", c.roam_leg);
   get(pnh, "lane_spacing", c.lane_spacing);
   get(pnh, "lanes_along_x", c.lanes_along_x);
   get(pnh, "edge_clearance", c.edge_clearance);
@@ -82,9 +85,9 @@ NodeParams readParams(const ros::NodeHandle& pnh)
   get(pnh, "coverage_png", p.coverage_png);
   try
   {
-    if (behaviour != "navigate" && behaviour != "cover")
+    if (behaviour != "navigate" && behaviour != "cover" && behaviour != "roam")
     {
-      throw std::invalid_argument("behaviour must be navigate or cover (got '" + behaviour + "')");
+      throw std::invalid_argument("behaviour must be navigate, cover or roam (got '" + behaviour + "')");
     }
     n.validate();
     c.validate();

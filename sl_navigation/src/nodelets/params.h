@@ -18,8 +18,8 @@ struct NodeParams
   double control_rate = 20.0;       ///< Hz of the control loop (commands on cmd_vel_in_stamped)
   double pose_timeout = 0.5;        ///< s: an odom -> base_link older than this stops the robot
   double map_publish_period = 1.0;  ///< s between nav_map and coverage messages (while subscribed)
-  bool cover = false;               ///< ~behaviour cover: cleaning coverage instead of goals (navigate)
-  CoverageParams coverage;          ///< the cleaning targets (cover)
+  bool cover = false;               ///< ~behaviour cover or roam: the CoverageRunner instead of goals (navigate)
+  CoverageParams coverage;          ///< the cleaning or exploring targets (coverage.roam: behaviour roam)
   std::string coverage_png;         ///< cover: the map with the coverage written here at the end (empty: none)
 };
 

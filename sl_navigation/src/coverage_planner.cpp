@@ -547,8 +547,8 @@ bool CoveragePlanner::roam(const NavGrid& grid, const Pose& pose, CoverageTarget
     {
       continue;
     }
-    const double x = origin_x_ + (static_cast<int>(i % n_) + 0.5) * resolution_;
-    const double y = origin_y_ + (static_cast<int>(i / n_) + 0.5) * resolution_;
+    const double x = grid.centerX(static_cast<int>(i % n_));
+    const double y = grid.centerY(static_cast<int>(i / n_));
     const double turn = std::abs(wrapAngle(std::atan2(y - pose.y, x - pose.x) - pose.yaw));
     const double base = std::min(d, 2.0 * leg) / leg + gain_[i] / full - kRoamTurnWeight * turn / M_PI;
     if (base <= best)
@@ -919,6 +919,15 @@ bool CoverageRunner::escape(const Pose& pose, double now)
   return true;
 }
 
+void CoverageRunner::dropTarget()
+{
+  if (goal_index_ > 0)
+  {
+    planner_.failed(target_.goals[goal_index_ - 1]);
+  }
+  goal_index_ = target_.goals.size();
+}
+
 void CoverageRunner::measure(double now)
 {
   std::size_t floor_cells = 0;
@@ -939,8 +948,8 @@ std::string CoverageRunner::summary() const
   }
   else
   {
-    std::snprintf(text, sizeof(text), "coverage %.1f %% of %.2f m2 reachable floor, %s", 100.0 * progress_,
-                  floor_area_, what);
+    std::snprintf(text, sizeof(text), "coverage %.1f %% of %.2f m2 reachable floor, %s", 100.0 * progress_, floor_area_,
+                  what);
   }
   return text;
 }
@@ -964,8 +973,7 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt, d
   {
     if (started_ && nav_.state() == NavState::ABORTED && goal_index_ > 0)
     {
-      planner_.failed(target_.goals[goal_index_ - 1]);
-      goal_index_ = target_.goals.size();
+      dropTarget();
     }
     started_ = true;
     // Roaming never ends DONE: with nothing to go to (yet), it asks again a second later.
@@ -988,10 +996,8 @@ const NavOutput& CoverageRunner::step(const Pose& pose, double now, double dt, d
     {
       // The safety filter holds the robot on this leg: another leg, rather than looking around
       // and backing off for a goal that is only one of many.
-      planner_.failed(target_.goals[goal_index_ - 1]);
-      goal_index_ = target_.goals.size();
+      dropTarget();
       nav_.cancel(now, "roam: stuck on this leg");
-      retry_time_ = -std::numeric_limits<double>::infinity();
     }
     else if (goal_index_ >= target_.goals.size() && out_.remaining < kHandover)
     {
@@ -1022,11 +1028,7 @@ void CoverageRunner::watchBlocked(const Pose& pose, double now, bool guarded)
   if (now - blocked_since_ >= kBlockedTime && startEscape(pose, now))
   {
     blocked_since_ = std::numeric_limits<double>::quiet_NaN();
-    if (goal_index_ > 0)
-    {
-      planner_.failed(target_.goals[goal_index_ - 1]);
-    }
-    goal_index_ = target_.goals.size();
+    dropTarget();
     nav_.cancel(now, "coverage: blocked");
     escape(pose, now);
   }

@@ -137,15 +137,15 @@ inline Pose randomStart(const Room& room, std::mt19937& rng)
 /// What a cleaning run did: coverage of the truth's reachable floor at the report times.
 struct CleanRun
 {
-  std::vector<double> coverage;  // at each report time
-  int contacts = 0;              // steps touching (bump-and-turn: bumps)
-  double min_clearance = 1e9;    // m, disc to the nearest truth cell centre
-  double travelled = 0.0;        // m
-  double done_time = -1.0;       // s when the runner reported DONE (-1: not)
-  double progress = 0.0;         // the runner's own figure (its map's floor)
+  std::vector<double> coverage;      // at each report time
+  int contacts = 0;                  // steps touching (bump-and-turn: bumps)
+  double min_clearance = 1e9;        // m, disc to the nearest truth cell centre
+  double travelled = 0.0;            // m
+  double done_time = -1.0;           // s when the runner reported DONE (-1: not)
+  double progress = 0.0;             // the runner's own figure (its map's floor)
   std::vector<double> travelled_at;  // m, at each report time
   int targets[6] = { 0, 0, 0, 0, 0, 0 };
-  int rounds = 0;  // exploring: rounds over the room begun
+  int rounds = 0;                              // exploring: rounds over the room begun
   double mode_time[6] = { 0, 0, 0, 0, 0, 0 };  // per FollowMode, and guarded/escaping (cover)
   int escapes = 0;
   double wall_band = 0.0;  // m, median uncovered band along the straight outer walls (cover)

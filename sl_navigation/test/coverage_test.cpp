@@ -370,7 +370,8 @@ TEST(CoverageRunner, KeepsTheFilterSpeedCapAndSummarisesTheProgress)
   EXPECT_GT(moved, 0.8);  // measured 1.36 m
   EXPECT_GT(runner.floorArea(), 1.0);
   char expected[80];
-  std::snprintf(expected, sizeof(expected), "coverage %.1f %% of %.2f m2", 100.0 * runner.progress(), runner.floorArea());
+  std::snprintf(expected, sizeof(expected), "coverage %.1f %% of %.2f m2", 100.0 * runner.progress(),
+                runner.floorArea());
   EXPECT_EQ(line.rfind(expected, 0), 0u) << line;
 }
 
@@ -423,8 +424,9 @@ TEST(CoverageLoop, ExploresFurnishedRoomsInLongLegs)
   // behaviour roam: ROAM legs and frontiers with the navigator's default parameters, forever.
   const std::vector<double> times = { 90.0, 300.0 };
   const int seeds = std::getenv("COVER_SEEDS") ? std::atoi(std::getenv("COVER_SEEDS")) : 2;
-  std::printf("room   seed | m in 90 s, 300 s | m/min over 300 s | driven over %% at 90, 300 s | rounds | roam frontier "
-              "targets | contacts | min clearance m\n");
+  std::printf(
+      "room   seed | m in 90 s, 300 s | m/min over 300 s | driven over %% at 90, 300 s | rounds | roam frontier "
+      "targets | contacts | min clearance m\n");
   for (const Room& room : { livingRoom(), diningRoom(), officeRoom() })
   {
     for (int seed = 1; seed <= seeds; ++seed)
@@ -437,19 +439,18 @@ TEST(CoverageLoop, ExploresFurnishedRoomsInLongLegs)
       np.grid.size = 12.0;
       np.follower.yaw_tolerance = 0.3;
       const CleanRun e = runCover(room, start, times.back(), times, cp, "", np);
-      std::printf("%-6s %4d | %5.1f %6.1f     | %5.2f            | %5.1f %5.1f               | %6d | %4d %8d "
-                  "        | %3d      | %.3f\n",
-                  room.name.c_str(), seed, e.travelled_at[0], e.travelled_at[1], e.travelled_at[1] / 5.0,
-                  100 * e.coverage[0], 100 * e.coverage[1], e.rounds, e.targets[5], e.targets[3], e.contacts,
-                  e.min_clearance);
-      std::printf("            time per mode: drive %.0f s, rotate %.0f, look %.0f, blocked %.0f, arrived %.0f, "
-                  "guard/escape %.0f (%d escapes)\n",
-                  e.mode_time[0], e.mode_time[1], e.mode_time[2], e.mode_time[3], e.mode_time[4], e.mode_time[5],
-                  e.escapes);
+      std::printf(
+          "%-6s %4d | %5.1f %6.1f     | %5.2f            | %5.1f %5.1f               | %6d | %4d %8d "
+          "        | %3d      | %.3f\n",
+          room.name.c_str(), seed, e.travelled_at[0], e.travelled_at[1], e.travelled_at[1] / 5.0, 100 * e.coverage[0],
+          100 * e.coverage[1], e.rounds, e.targets[5], e.targets[3], e.contacts, e.min_clearance);
+      std::printf(
+          "            time per mode: drive %.0f s, rotate %.0f, look %.0f, blocked %.0f, arrived %.0f, "
+          "guard/escape %.0f (%d escapes)\n",
+          e.mode_time[0], e.mode_time[1], e.mode_time[2], e.mode_time[3], e.mode_time[4], e.mode_time[5], e.escapes);
       EXPECT_EQ(e.contacts, 0) << room.name << " seed " << seed;
       EXPECT_GT(e.min_clearance, 0.0) << room.name << " seed " << seed;
-      EXPECT_GE(e.travelled_at[1] / 5.0, 9.0) << room.name << " seed " << seed;  // m/min; measured 12.7..14.9
+      EXPECT_GE(e.travelled_at[1] / 5.0, 9.0) << room.name << " seed " << seed;  // m/min; measured 12.6..14.5
     }
   }
 }
-

@@ -234,6 +234,8 @@ public:
 
 private:
   bool nextGoal(const Pose& pose, double now);
+  /// The current goal failed: reported to the planner (failed()), and the rest of its target dropped.
+  void dropTarget();
   /// Distance (m) from (x, y) to the nearest occupied cell centre of the map within @p reach (else reach).
   double obstacleDistance(double x, double y, double now, double reach) const;
   /// False when (v, w) for 0.5 s from @p pose brings the robot too near a known obstacle.

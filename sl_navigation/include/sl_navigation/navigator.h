@@ -175,7 +175,7 @@ private:
   double refuse_since_ = std::numeric_limits<double>::quiet_NaN();
   double best_remaining_ = std::numeric_limits<double>::infinity();  // path left
   double best_distance_ = std::numeric_limits<double>::infinity();   // straight line to the goal
-  bool goal_seen_ = false;  // the plan's end was once known free
+  bool goal_seen_ = false;                                           // the plan's end was once known free
   double goal_distance_ = 0.0;  // straight line from the first pose after setGoal() to the goal
   double progress_time_ = 0.0;
   bool has_last_pose_ = false;

@@ -20,6 +20,7 @@ constexpr double kBackoffSpeed = 0.08;    // m/s
 constexpr double kBackoffTimeout = 8.0;   // s per phase of a back-off
 constexpr double kBlockedRadius = 0.1;    // m, the disc taken as blocked
 constexpr double kBlockedAhead = 0.12;    // m beyond the robot's disc where that disc's centre lies on the path
+constexpr double kFaceGoalTime = 10.0;    // s at most to face the goal before a refusal counts
 }  // namespace
 
 void NavigatorParams::validate() const
@@ -135,6 +136,7 @@ std::string Navigator::setGoal(const NavGoal& goal, double now)
   last_step_ = std::numeric_limits<double>::quiet_NaN();
   look_step_ = -1;
   backoff_phase_ = 0;
+  confirm_ = Confirm::NONE;
   return std::string();
 }
 
@@ -216,6 +218,7 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
       best_remaining_ = follower_.remaining();
     }
     refuse_since_ = std::numeric_limits<double>::quiet_NaN();
+    confirm_ = Confirm::NONE;
     out_.plan_changed = true;
     return true;
   }
@@ -226,7 +229,9 @@ bool Navigator::replan(const Pose& pose, double now, bool force)
   {
     refuse_since_ = now;
   }
-  if (refuse_now || now - refuse_since_ >= params_.refuse_time)
+  // Blocked or enclosed only counts once the robot looked toward the goal (confirmLook()): one
+  // spurious cell in a doorway must not end a goal behind it.
+  if (refuse_now || (confirm_ == Confirm::DONE && now - refuse_since_ >= params_.refuse_time))
   {
     end(NavState::ABORTED, std::string("goal aborted: ") + p.text);
   }
@@ -290,7 +295,7 @@ const NavOutput& Navigator::step(const Pose& pose, double now, double speed_cap)
                           (grid_.version() != plan_version_ && now - plan_time_ >= params_.replan_period);
   if (stale_plan && !replan(pose, now))
   {
-    if (out_.state == NavState::ACTIVE)
+    if (out_.state == NavState::ACTIVE && !confirmLook(pose, now))
     {
       out_.reason = "no plan yet: " + plan_.text;
     }
@@ -483,6 +488,48 @@ bool Navigator::lookAround(const Pose& pose, double now)
     }
     return true;  // a stop this step (an ended goal also owes one)
   }
+  return false;
+}
+
+bool Navigator::confirmLook(const Pose& pose, double now)
+{
+  if (confirm_ == Confirm::DONE)
+  {
+    return false;  // looked in this episode: refuse_time runs
+  }
+  if (confirm_ == Confirm::NONE)
+  {
+    confirm_ = Confirm::TURNING;
+    confirm_started_ = now;
+  }
+  char text[360];
+  const double dx = goal_.x - pose.x;
+  const double dy = goal_.y - pose.y;
+  const double error = wrapAngle(std::atan2(dy, dx) - pose.yaw);
+  const bool far = std::hypot(dx, dy) > params_.planner.robot_radius;
+  if (confirm_ == Confirm::TURNING && far && std::abs(error) > 0.1 && now - confirm_started_ < kFaceGoalTime)
+  {
+    out_.angular = turnRate(error, params_.follower.turn_speed);
+    out_.mode = FollowMode::LOOK;
+    std::snprintf(text, sizeof(text), "%s: turning toward the goal to look again (%.2f rad to go)", plan_.text.c_str(),
+                  error);
+    out_.reason = text;
+    return true;
+  }
+  if (confirm_ == Confirm::TURNING)
+  {
+    confirm_ = Confirm::WAITING;
+    confirm_started_ = now;
+  }
+  if (now - confirm_started_ < params_.follower.look_time)
+  {
+    out_.mode = FollowMode::LOOK;
+    std::snprintf(text, sizeof(text), "%s: looking toward the goal before refusing it", plan_.text.c_str());
+    out_.reason = text;
+    return true;
+  }
+  confirm_ = Confirm::DONE;
+  refuse_since_ = now;
   return false;
 }
 

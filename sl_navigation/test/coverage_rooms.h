@@ -231,6 +231,7 @@ inline NavigatorParams cleaningNavigator()
   p.follower.goal_tolerance = 0.05;
   p.follower.yaw_tolerance = 0.3;
   p.follower.rotate_threshold = 0.55;  // turn in place first: a wide arc swings the disc into furniture
+  p.follower.max_speed = 0.3;          // core.launch's for cover
   return p;
 }
 
@@ -250,7 +251,7 @@ inline CleanRun runCover(const Room& room, Pose pose, double limit, const std::v
   sl_navigation::NavState last_state = sl_navigation::NavState::IDLE;
   for (int k = 0; t < limit + 1e-9; ++k, t += dt)
   {
-    if (k % 10 == 0)  // the obstacle node's local map at 2 Hz
+    if (k % 4 == 0)  // the obstacle node's local map at 5 Hz (map_rate)
     {
       room.world.sense(pose, memory, data, view);
       runner.onMap(view, 100.0 + t);

@@ -335,8 +335,8 @@ TEST(CoverageRunner, StopsForABadPoseAndDrivesOnWithAGoodOne)
     moved += std::hypot(pose.x - before.x, pose.y - before.y);
   }
   std::printf("20 s in a 3 x 2 m room: %.2f m driven, progress %.3f\n", moved, runner.progress());
-  EXPECT_GT(moved, 2.4);              // measured 3.95 m
-  EXPECT_GT(runner.progress(), 0.2);  // measured 0.359
+  EXPECT_GT(moved, 2.7);               // measured 3.95 m
+  EXPECT_GT(runner.progress(), 0.25);  // measured 0.359
 }
 
 TEST(CoverageRunner, KeepsTheFilterSpeedCapAndSummarisesTheProgress)
@@ -412,8 +412,8 @@ TEST(CoverageLoop, CleansFurnishedRoomsWithoutTouching)
           c.mode_time[0], c.mode_time[1], c.mode_time[2], c.mode_time[3], c.mode_time[4], c.mode_time[5], c.escapes,
           c.travelled, b.travelled, c.wall_band);
       EXPECT_EQ(c.contacts, 0) << room.name << " seed " << seed;
-      EXPECT_GE(c.coverage.back(), 0.8) << room.name << " seed " << seed;        // measured 0.911..0.985
-      EXPECT_GE(c.coverage[2], b.coverage[2]) << room.name << " seed " << seed;  // measured 1.03..1.44 times
+      EXPECT_GE(c.coverage.back(), 0.8) << room.name << " seed " << seed;        // measured 0.908..0.985
+      EXPECT_GE(c.coverage[2], b.coverage[2]) << room.name << " seed " << seed;  // measured 1.05..1.40 times
       EXPECT_LE(c.wall_band, 0.10) << room.name << " seed " << seed;  // the bound; measured 0.05..0.10
     }
   }
@@ -450,7 +450,7 @@ TEST(CoverageLoop, ExploresFurnishedRoomsInLongLegs)
           e.mode_time[0], e.mode_time[1], e.mode_time[2], e.mode_time[3], e.mode_time[4], e.mode_time[5], e.escapes);
       EXPECT_EQ(e.contacts, 0) << room.name << " seed " << seed;
       EXPECT_GT(e.min_clearance, 0.0) << room.name << " seed " << seed;
-      EXPECT_GE(e.travelled_at[1] / 5.0, 9.0) << room.name << " seed " << seed;  // m/min; measured 12.6..14.5
+      EXPECT_GE(e.travelled_at[1] / 5.0, 11.0) << room.name << " seed " << seed;  // m/min; measured 16.6..20.2
     }
   }
 }

@@ -40,6 +40,7 @@ TEST(ObstacleParams, DefaultsAreValidAndEqualTheCoreDefaults)
   EXPECT_EQ(p.target_frame, "platform_edge");
   EXPECT_EQ(p.command_mode, CommandMode::ACTION);
   EXPECT_DOUBLE_EQ(p.control_rate, 10.0);
+  EXPECT_DOUBLE_EQ(p.map_rate, 5.0);
   // Obstacle.cfg's defaults and the core's defaults must agree.
   const Settings core;
   const Settings& s = p.settings;
@@ -115,6 +116,8 @@ TEST(ObstacleParams, BadValuesFailNamingTheParameter)
   expectRejected(s, "safety_margin");  // margin + min_goal_distance >= depth
   rejects("command_mode", std::string("fly"));
   rejects("control_rate", 0.0);
+  rejects("map_rate", 20.0);  // above control_rate
+  rejects("map_rate", std::string("often"));
   rejects("target_frame", std::string(""));
   rejects("odom_frame", 3);  // wrong type
   rejects("map_resolution", 0.5);

@@ -109,6 +109,7 @@ struct NavOutput
  * by the planner for refused_memory (across goals), and it replans another way (or the goal ends as
  * the planner finds none). setGoal() refuses at once
  * a non-finite goal or one outside the map. A new goal replaces the old one (which ends CANCELLED).
+ * Before refuse_time counts, the robot faces the goal once and waits look_time (confirmLook()).
  */
 class Navigator
 {
@@ -206,6 +207,10 @@ private:
   /// Stuck a third time in one place (the way not ending at the goal): blocks the way ahead for
   /// the planner and replans: a disc around @p c (refusedPoint()).
   void blockAhead(const Pose& pose, const Point& c, double now);
+  /// No plan (the goal blocked or enclosed): the first time in an episode of failed plans, turns to
+  /// face the goal and waits look_time for the map, so that a passage closed by a spurious cell is
+  /// seen again; refuse_time counts from the end of it. @return true while it commands the robot.
+  bool confirmLook(const Pose& pose, double now);
   /// The point of the path just beyond the robot's body (where the filter refused to go).
   Point refusedPoint(const Pose& pose) const;
   /// True when a blocked disc at @p c would make the goal itself unplannable.
@@ -236,5 +241,14 @@ private:
   int look_step_ = -1;          // -1: not looking around; else the index of the heading turned to
   double look_base_yaw_ = 0.0;  // the heading the look-around started from
   double look_started_ = 0.0;
+  enum class Confirm : std::uint8_t
+  {
+    NONE,     // no failed plan in this episode yet
+    TURNING,  // turning to face the goal
+    WAITING,  // facing it, waiting look_time for the map
+    DONE      // looked: refuse_time runs
+  };
+  Confirm confirm_ = Confirm::NONE;  // confirmLook()'s phase
+  double confirm_started_ = 0.0;
 };
 }  // namespace sl_navigation

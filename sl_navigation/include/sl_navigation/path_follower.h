@@ -24,7 +24,7 @@ struct Pose
 /// Parameters of the path follower. validate() names the ROS parameter of a bad value.
 struct FollowerParams
 {
-  double max_speed = 0.3;           ///< m/s (max_speed); the Create drives up to 0.5
+  double max_speed = 0.45;          ///< m/s (max_speed); the Create drives up to 0.5
   double min_speed = 0.05;          ///< m/s asked for at least while the path is not blocked (the filter decides)
   double max_angular = 1.2;         ///< rad/s while driving (max_angular_speed)
   double turn_speed = 0.9;          ///< rad/s, the fastest turn in place (turn_speed)
@@ -39,7 +39,7 @@ struct FollowerParams
   double view_angle =
       0.15;  ///< rad, half the view in which the floor is seen free: unknown cells in it are not looked at
   double look_tolerance = 0.15;  ///< rad: facing an unknown cell this well counts as looking at it
-  double look_time = 0.7;        ///< s to wait facing an unknown cell before driving on (the filter decides)
+  double look_time = 0.5;        ///< s to wait facing an unknown cell before driving on (the filter decides)
   double goal_tolerance = 0.10;  ///< m (goal_tolerance)
   double yaw_tolerance = 0.0;    ///< rad; 0: the goal's heading is ignored (yaw_tolerance)
 

@@ -72,7 +72,8 @@ void CoverageOutput::finish(const CoverageRunner& runner, const ros::Time& now)
 {
   if (!done_)
   {
-    ROS_INFO("navigation: cleaning ends: %s", runner.summary().c_str());
+    ROS_INFO("navigation: %s ends: %s", runner.planner().params().roam ? "roaming" : "cleaning",
+             runner.summary().c_str());
     done_ = true;
     writePicture(runner, now, true);
   }

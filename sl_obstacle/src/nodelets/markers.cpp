@@ -183,7 +183,8 @@ void Display::showCloud(const Supervisor& sup, const std::vector<Point>& points,
 
 void Display::showMap(const Supervisor& sup, const ros::Time& now)
 {
-  if (!sup.world() || !sup.localized() || map_pub_.getNumSubscribers() == 0 || (now - map_published_).toSec() < 0.5)
+  if (!sup.world() || !sup.localized() || map_pub_.getNumSubscribers() == 0 ||
+      (now - map_published_).toSec() < 1.0 / params_.map_rate - 0.01)
   {
     return;
   }

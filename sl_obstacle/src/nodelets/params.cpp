@@ -229,6 +229,14 @@ NodeletParams loadParams(const ros::NodeHandle& pnh)
     s << "control_rate must be in [1, 100] Hz (got " << p.control_rate << ")";
     fail(s.str());
   }
+  checkType(pnh, "map_rate", "double");
+  pnh.getParam("map_rate", p.map_rate);
+  if (!(p.map_rate >= 0.1 && p.map_rate <= p.control_rate))
+  {
+    std::ostringstream s;
+    s << "map_rate must be in [0.1, control_rate = " << p.control_rate << "] Hz (got " << p.map_rate << ")";
+    fail(s.str());
+  }
 
   p.config = ObstacleConfig::__getDefault__();
   checkTypes([&] { sl_params::checkReconfigureTypes<ObstacleConfig>(pnh); });

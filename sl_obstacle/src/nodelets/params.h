@@ -19,6 +19,7 @@ struct NodeletParams
   std::string robot_frame = "base_link";           ///< ~robot_frame: centre of the robot's disc
   CommandMode command_mode = CommandMode::ACTION;  ///< ~command_mode: "action", "cmd_vel" or "filter"
   double control_rate = 10.0;                      ///< ~control_rate: decision steps per second without clouds (Hz)
+  double map_rate = 5.0;                           ///< ~map_rate: local_map messages per second at most (Hz)
   ObstacleConfig config;                           ///< the reconfigurable parameters (same names as in Obstacle.cfg)
   Settings settings;                               ///< config converted to the core's parameter structs
 };

@@ -414,7 +414,7 @@ TEST(CoverageLoop, CleansFurnishedRoomsWithoutTouching)
       EXPECT_EQ(c.contacts, 0) << room.name << " seed " << seed;
       EXPECT_GE(c.coverage.back(), 0.8) << room.name << " seed " << seed;        // measured 0.908..0.985
       EXPECT_GE(c.coverage[2], b.coverage[2]) << room.name << " seed " << seed;  // measured 1.05..1.40 times
-      EXPECT_LE(c.wall_band, 0.10) << room.name << " seed " << seed;  // the bound; measured 0.05..0.10
+      EXPECT_LE(c.wall_band, 0.10) << room.name << " seed " << seed;  // the cleaning bound; measured 0.05..0.10
     }
   }
 }

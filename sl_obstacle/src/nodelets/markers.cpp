@@ -183,6 +183,7 @@ void Display::showCloud(const Supervisor& sup, const std::vector<Point>& points,
 
 void Display::showMap(const Supervisor& sup, const ros::Time& now)
 {
+  // 10 ms of slack: a timer tick a little early must not push the map to the next tick.
   if (!sup.world() || !sup.localized() || map_pub_.getNumSubscribers() == 0 ||
       (now - map_published_).toSec() < 1.0 / params_.map_rate - 0.01)
   {

@@ -50,6 +50,22 @@ void checkType(const ros::NodeHandle& pnh, const std::string& name, const std::s
 {
   checkTypes([&] { sl_params::checkReconfigureType(pnh, name, type); });
 }
+
+/// Reads the rate @p name (a double, Hz) into @p value when set; fails naming it unless it lies in
+/// [lo, hi] (@p hi_name: the parameter that sets hi, for the message; empty: none).
+void readRate(const ros::NodeHandle& pnh, const std::string& name, double lo, double hi, const std::string& hi_name,
+              double& value)
+{
+  checkType(pnh, name, "double");
+  pnh.getParam(name, value);
+  if (!(value >= lo && value <= hi))
+  {
+    std::ostringstream s;
+    s << name << " must be in [" << lo << ", " << (hi_name.empty() ? "" : hi_name + " = ") << hi << "] Hz (got "
+      << value << ")";
+    fail(s.str());
+  }
+}
 }  // namespace
 
 Settings toSettings(const ObstacleConfig& c)
@@ -221,22 +237,8 @@ NodeletParams loadParams(const ros::NodeHandle& pnh)
   {
     fail("command_mode must be \"action\", \"cmd_vel\" or \"filter\" (got \"" + mode + "\")");
   }
-  checkType(pnh, "control_rate", "double");
-  pnh.getParam("control_rate", p.control_rate);
-  if (!(p.control_rate >= 1.0 && p.control_rate <= 100.0))
-  {
-    std::ostringstream s;
-    s << "control_rate must be in [1, 100] Hz (got " << p.control_rate << ")";
-    fail(s.str());
-  }
-  checkType(pnh, "map_rate", "double");
-  pnh.getParam("map_rate", p.map_rate);
-  if (!(p.map_rate >= 0.1 && p.map_rate <= p.control_rate))
-  {
-    std::ostringstream s;
-    s << "map_rate must be in [0.1, control_rate = " << p.control_rate << "] Hz (got " << p.map_rate << ")";
-    fail(s.str());
-  }
+  readRate(pnh, "control_rate", 1.0, 100.0, "", p.control_rate);
+  readRate(pnh, "map_rate", 0.1, p.control_rate, "control_rate", p.map_rate);  // published on the timer's steps
 
   p.config = ObstacleConfig::__getDefault__();
   checkTypes([&] { sl_params::checkReconfigureTypes<ObstacleConfig>(pnh); });
